@@ -1,0 +1,37 @@
+// How an area of the host adds its subcommands to the `marvin` executable.
+//
+// Each area writes one file core/app/cli_<area>.cpp that defines an installer and
+// registers it with MARVIN_CLI_COMMANDS. main() calls every installer on the root CLI11
+// app before parsing. A subcommand reports failure by throwing marvin::app::CliError
+// (printed as "marvin: <message>", exit code as given); any other std::exception is
+// printed the same way with exit code 1.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace marvin::app {
+
+class CliError : public std::runtime_error {
+ public:
+  explicit CliError(const std::string& message, int exit_code = 1)
+      : std::runtime_error(message), exit_code_(exit_code) {}
+  int exit_code() const { return exit_code_; }
+
+ private:
+  int exit_code_;
+};
+
+using CommandInstaller = void (*)(CLI::App& root);
+
+// Registers `installer` to run at start-up; `name` orders the installers (alphabetically)
+// so `marvin --help` is stable.
+struct CommandRegistration {
+  CommandRegistration(const char* name, CommandInstaller installer);
+};
+
+#define MARVIN_CLI_COMMANDS(installer) \
+  static const ::marvin::app::CommandRegistration marvin_cli_registration_##installer(#installer, installer)
+
+}  // namespace marvin::app
