@@ -1,0 +1,139 @@
+/* Marvin SDK: the Robot API, the table of host functions a skill may call.
+ *
+ * The host hands a skill a pointer to one marvin_robot_api and a marvin_host context.
+ * The table stays valid for the lifetime of the skill instance. Every function takes the
+ * context first and returns a marvin_status; on any status but MARVIN_OK,
+ * api->last_error(host) gives a sentence saying what went wrong (for example
+ * "permission 'motion' is not granted to skill 'dice'").
+ *
+ * Permissions (declared in skill.json, approved by the owner at install):
+ *   "speech"    say, ask               (every skill has it implicitly)
+ *   "light"     set_light
+ *   "motion"    move, stop, tilt_head
+ *   "sensors"   obstacle_scan
+ *   "schedule"  schedule_*
+ *   "contacts"  contacts_*, people_list
+ *   "storage"   storage_*             (a skill only ever sees its own keys)
+ *   "vision", "phone", "smarthome"    the capabilities of later releases
+ * Calls without the permission fail with MARVIN_ERR_PERMISSION and change nothing.
+ *
+ * Threading: a skill instance is called by one host thread at a time; it may call the
+ * table from that thread only. Calls that wait for the user (ask) or the body (move)
+ * return MARVIN_ERR_CANCELLED when the user says "stop". */
+#ifndef MARVIN_ROBOT_H_
+#define MARVIN_ROBOT_H_
+
+#include "marvin/abi.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The robot's head LEDs: what the robot is doing, at a glance. */
+typedef enum marvin_light {
+  MARVIN_LIGHT_OFF = 0,
+  MARVIN_LIGHT_AWAITING = 1,  /* red: waiting for the wake word */
+  MARVIN_LIGHT_LISTENING = 2, /* green: listening to a request */
+  MARVIN_LIGHT_EXECUTING = 3  /* yellow: acting on a request */
+} marvin_light;
+
+typedef enum marvin_direction {
+  MARVIN_FORWARD = 0,
+  MARVIN_BACKWARD = 1,
+  MARVIN_TURN_LEFT = 2,
+  MARVIN_TURN_RIGHT = 3
+} marvin_direction;
+
+/* One sonar reading: where the obstacle is, seen from the robot's head. */
+typedef struct marvin_scan_point {
+  double angle_deg;   /* 0..120, 60 is straight ahead */
+  double distance_m;  /* 0..2.5; 2.5 means nothing closer */
+  int64_t time_ms;    /* host clock, milliseconds since the Unix epoch */
+} marvin_scan_point;
+
+typedef enum marvin_log_level {
+  MARVIN_LOG_DEBUG = 0,
+  MARVIN_LOG_INFO = 1,
+  MARVIN_LOG_WARNING = 2,
+  MARVIN_LOG_ERROR = 3
+} marvin_log_level;
+
+#define MARVIN_ROBOT_API_MAJOR 1
+#define MARVIN_ROBOT_API_MINOR 0
+
+typedef struct marvin_robot_api {
+  uint32_t struct_size; /* sizeof(marvin_robot_api) as the host compiled it */
+  uint16_t major;       /* MARVIN_ROBOT_API_MAJOR */
+  uint16_t minor;       /* MARVIN_ROBOT_API_MINOR */
+
+  /* The sentence describing why the last call from this context failed ("" if none).
+   * Valid until the next call on the same context. Never NULL. */
+  const char* (*last_error)(marvin_host* host);
+
+  /* --- speech ------------------------------------------------------------------- */
+  /* Speaks `text` to the user. Returns when the sentence is queued for speaking. */
+  marvin_status (*say)(marvin_host* host, const char* text);
+  /* Speaks `question`, waits for the user's answer and writes its text to `answer`. */
+  marvin_status (*ask)(marvin_host* host, const char* question, marvin_text_out* answer);
+
+  /* --- body ---------------------------------------------------------------------- */
+  marvin_status (*set_light)(marvin_host* host, marvin_light light);
+  /* Drives for `duration_ms` at `speed` (0..255) then stops; the base stops by itself
+   * before an obstacle. Returns when the motion has finished or was stopped. */
+  marvin_status (*move)(marvin_host* host, marvin_direction direction, uint8_t speed,
+                        uint32_t duration_ms);
+  marvin_status (*stop)(marvin_host* host);
+  /* Tilts the head to `degrees` (-30 looks down, 0 level, +30 up). */
+  marvin_status (*tilt_head)(marvin_host* host, int32_t degrees);
+  /* Copies the latest obstacle scan into `points` (at most `capacity`) and sets `*count`. */
+  marvin_status (*obstacle_scan)(marvin_host* host, marvin_scan_point* points, size_t capacity,
+                                 size_t* count);
+
+  /* --- time ---------------------------------------------------------------------- */
+  /* Now, in milliseconds since the Unix epoch (UTC), from the host's clock. */
+  marvin_status (*now)(marvin_host* host, int64_t* unix_ms);
+  /* The owner's IANA time zone name, e.g. "Europe/Berlin". */
+  marvin_status (*time_zone)(marvin_host* host, marvin_text_out* name);
+
+  /* --- schedules (JSON text; the format is documented in sdk/include/marvin/README.md)
+   * schedule_add takes {"title", "at" (local "YYYY-MM-DDTHH:MM"), "recurrence"?} and
+   * writes the new reminder's JSON (with "id") once it is durably stored. */
+  marvin_status (*schedule_add)(marvin_host* host, const char* reminder_json,
+                                marvin_text_out* created_json);
+  /* Reminders firing in [from_unix_ms, to_unix_ms), as a JSON array. */
+  marvin_status (*schedule_list)(marvin_host* host, int64_t from_unix_ms, int64_t to_unix_ms,
+                                 marvin_text_out* reminders_json);
+  marvin_status (*schedule_remove)(marvin_host* host, int64_t reminder_id);
+
+  /* --- contacts and people (JSON text) -------------------------------------------- */
+  /* Contacts whose name or alias matches `name` (case-insensitive), as a JSON array. */
+  marvin_status (*contacts_find)(marvin_host* host, const char* name, marvin_text_out* contacts_json);
+  marvin_status (*contacts_add)(marvin_host* host, const char* contact_json,
+                                marvin_text_out* created_json);
+  marvin_status (*people_list)(marvin_host* host, marvin_text_out* people_json);
+
+  /* --- per-skill key-value storage (values are bytes; keys are text) ------------- */
+  marvin_status (*storage_get)(marvin_host* host, const char* key, marvin_text_out* value);
+  marvin_status (*storage_set)(marvin_host* host, const char* key, const char* value,
+                               size_t value_length);
+  marvin_status (*storage_remove)(marvin_host* host, const char* key);
+
+  /* --- the skill's own log (shown by `marvin skills list` and in the host log) ---- */
+  marvin_status (*log)(marvin_host* host, marvin_log_level level, const char* message);
+
+  /* True once the user said "stop" or the time limit ran out: long skills poll it. */
+  int (*is_cancelled)(marvin_host* host);
+
+  /* --- later capabilities: present now, MARVIN_ERR_UNAVAILABLE until they land ---- */
+  marvin_status (*vision_find_object)(marvin_host* host, const char* object_name,
+                                      marvin_text_out* result_json);
+  marvin_status (*vision_who_is_there)(marvin_host* host, marvin_text_out* people_json);
+  marvin_status (*phone_call)(marvin_host* host, const char* phone_number);
+  marvin_status (*smarthome_set)(marvin_host* host, const char* device, const char* state);
+} marvin_robot_api;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MARVIN_ROBOT_H_ */
