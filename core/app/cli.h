@@ -25,6 +25,19 @@ class CliError : public std::runtime_error {
 
 using CommandInstaller = void (*)(CLI::App& root);
 
+// The subcommand `name` of `parent`, created (requiring a subcommand of its own) if no
+// installer made it yet. Several areas add to one group: `marvin skill new` (Lua) and
+// `marvin skill install` (store) both live under `skill`.
+inline CLI::App& command_group(CLI::App& parent, const std::string& name,
+                               const std::string& description) {
+  for (CLI::App* existing : parent.get_subcommands([](CLI::App*) { return true; })) {
+    if (existing->get_name() == name) return *existing;
+  }
+  CLI::App* group = parent.add_subcommand(name, description);
+  group->require_subcommand(1);
+  return *group;
+}
+
 // Registers `installer` to run at start-up; `name` orders the installers (alphabetically)
 // so `marvin --help` is stable.
 struct CommandRegistration {
