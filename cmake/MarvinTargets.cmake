@@ -56,11 +56,11 @@ function(marvin_add_test name)
 endfunction()
 
 # marvin_add_bench(NAME SOURCES... [DEPS libs...]): a benchmark program (prints figures,
-# never fails on time). Built with everything; run by hand: build/bench/NAME.
+# never fails on time). Built with everything; run by hand: build/benchmarks/NAME.
 function(marvin_add_bench name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS})
   marvin_target_defaults(${name})
-  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/benchmarks)
 endfunction()

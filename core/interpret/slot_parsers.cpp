@@ -1,0 +1,132 @@
+#include "interpret/slot_parsers.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "interpret/durations.h"
+#include "interpret/normalizer.h"
+#include "interpret/number_words.h"
+#include "interpret/time_expression.h"
+#include "interpret/time_resolution.h"
+
+namespace marvin::interpret {
+namespace {
+
+std::string join(std::span<const std::string> words) {
+  std::string out;
+  for (const std::string& w : words) {
+    if (!out.empty()) out.push_back(' ');
+    out += w;
+  }
+  return out;
+}
+
+bool equal_words(std::span<const std::string> a, const std::vector<std::string>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end());
+}
+
+}  // namespace
+
+PreparedSlot prepare_slot(const SlotSpec& spec) {
+  PreparedSlot slot;
+  slot.spec = spec;
+  switch (spec.type) {
+    case SlotType::kNumber:
+      slot.max_words = 1;
+      break;
+    case SlotType::kDuration:
+    case SlotType::kDateTime:
+      slot.max_words = 12;
+      break;
+    case SlotType::kContact:
+      slot.max_words = kContactMaxWords;
+      break;
+    case SlotType::kList:
+      slot.max_words = 1;
+      for (const std::string& value : spec.values) {
+        slot.list_words.push_back(normalize(value));
+        slot.max_words = std::max(slot.max_words, slot.list_words.back().size());
+      }
+      break;
+    case SlotType::kText:
+      slot.max_words = kTextSlotMaxWords;
+      break;
+  }
+  return slot;
+}
+
+void ContactBook::prepare() const {
+  if (prepared_) return;
+  prepared_ = true;
+  normalised_.reserve(names_.size());
+  for (const std::string& name : names_) normalised_.push_back(normalize(name));
+}
+
+std::optional<std::string> ContactBook::find(std::span<const std::string> words) const {
+  prepare();
+  for (std::size_t i = 0; i < names_.size(); ++i) {
+    if (!normalised_[i].empty() && equal_words(words, normalised_[i])) return names_[i];
+  }
+  // "Anna" for "Anna Schmidt", only when no other contact is called Anna.
+  if (words.size() != 1) return std::nullopt;
+  std::optional<std::size_t> found;
+  for (std::size_t i = 0; i < names_.size(); ++i) {
+    if (normalised_[i].size() > 1 && normalised_[i][0] == words[0]) {
+      if (found) return std::nullopt;
+      found = i;
+    }
+  }
+  if (found) return names_[*found];
+  return std::nullopt;
+}
+
+std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
+                                         std::span<const std::string> words,
+                                         const Context& context, const ContactBook& contacts,
+                                         std::size_t text_max_words) {
+  if (words.empty()) return std::nullopt;
+  switch (slot.spec.type) {
+    case SlotType::kNumber: {
+      if (words.size() != 1) return std::nullopt;
+      auto value = parse_decimal(words[0]);
+      if (!value) return std::nullopt;
+      double whole = std::floor(*value);
+      if (whole == *value) {
+        return SlotValue{words[0], nlohmann::json(static_cast<std::int64_t>(whole))};
+      }
+      return SlotValue{words[0], nlohmann::json(*value)};
+    }
+    case SlotType::kDuration: {
+      auto seconds = parse_duration(words);
+      if (!seconds) return std::nullopt;
+      return SlotValue{join(words), nlohmann::json(*seconds)};
+    }
+    case SlotType::kDateTime: {
+      auto phrase = parse_time_phrase(words);
+      if (!phrase) return std::nullopt;
+      auto value = resolve_time_phrase(*phrase, context.now_utc_ms, context.time_zone);
+      if (!value) return std::nullopt;
+      return SlotValue{join(words), std::move(*value)};
+    }
+    case SlotType::kContact: {
+      auto name = contacts.find(words);
+      if (!name) return std::nullopt;
+      return SlotValue{join(words), nlohmann::json(*name)};
+    }
+    case SlotType::kList:
+      for (std::size_t i = 0; i < slot.list_words.size(); ++i) {
+        if (equal_words(words, slot.list_words[i])) {
+          return SlotValue{join(words), nlohmann::json(slot.spec.values[i])};
+        }
+      }
+      return std::nullopt;
+    case SlotType::kText: {
+      if (words.size() > text_max_words) return std::nullopt;
+      std::string text = join(words);
+      return SlotValue{text, nlohmann::json(text)};
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace marvin::interpret

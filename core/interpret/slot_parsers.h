@@ -1,0 +1,51 @@
+// One slot's words -> its SlotValue, per slot type (see the table in interpreter.h).
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "interpret/interpreter.h"
+
+namespace marvin::interpret {
+
+// Most words a text slot takes in an utterance (a dialogue answer may be longer).
+inline constexpr std::size_t kTextSlotMaxWords = 8;
+
+// A slot spec prepared once: list values normalised.
+struct PreparedSlot {
+  SlotSpec spec;
+  std::vector<std::vector<std::string>> list_words;  // kList: normalised values[i]
+  std::size_t max_words = 1;
+};
+
+PreparedSlot prepare_slot(const SlotSpec& spec);
+
+// Contact names normalised once per match() call (first use only).
+class ContactBook {
+ public:
+  explicit ContactBook(const std::vector<std::string>& names) : names_(names) {}
+  // The contact spelled as in Context::contact_names whose full name, or unique first name,
+  // is `words`.
+  std::optional<std::string> find(std::span<const std::string> words) const;
+
+ private:
+  void prepare() const;
+  const std::vector<std::string>& names_;
+  mutable bool prepared_ = false;
+  mutable std::vector<std::vector<std::string>> normalised_;
+};
+
+// Most words a contact name may have in an utterance.
+inline constexpr std::size_t kContactMaxWords = 4;
+
+// `words` (all of them) as a value of `slot`; nullopt if they are not one.
+// `text_max_words` bounds kText. Throws std::runtime_error for an unknown time zone.
+std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
+                                         std::span<const std::string> words,
+                                         const Context& context, const ContactBook& contacts,
+                                         std::size_t text_max_words);
+
+}  // namespace marvin::interpret

@@ -1,0 +1,349 @@
+#include "interpret/time_expression.h"
+
+#include <array>
+#include <initializer_list>
+#include <string_view>
+
+#include "interpret/durations.h"
+#include "interpret/number_words.h"
+
+namespace marvin::interpret {
+namespace {
+
+constexpr std::array<std::string_view, 7> kWeekdays{
+    "sunday", "monday", "tuesday", "wednesday", "thursday", "friday", "saturday"};
+
+constexpr unsigned kMondayToFriday = 0b0111110U;
+constexpr unsigned kWeekend = 0b1000001U;
+
+std::optional<int> weekday_of(std::string_view word, bool* plural) {
+  for (std::size_t d = 0; d < kWeekdays.size(); ++d) {
+    if (word == kWeekdays[d]) {
+      if (plural) *plural = false;
+      return static_cast<int>(d);
+    }
+    if (word.size() == kWeekdays[d].size() + 1 && word.substr(0, kWeekdays[d].size()) ==
+                                                      kWeekdays[d] && word.back() == 's') {
+      if (plural) *plural = true;
+      return static_cast<int>(d);
+    }
+  }
+  return std::nullopt;
+}
+
+// Recursive-descent reader over the tokens; every read_* restores the position on failure.
+class TimeReader {
+ public:
+  explicit TimeReader(std::span<const std::string> words) : w_(words) {}
+
+  std::optional<TimePhrase> read() {
+    TimePhrase phrase;
+    if (accept("in")) {
+      auto seconds = parse_duration(w_.subspan(at_));
+      if (!seconds) return std::nullopt;
+      phrase.in_seconds = *seconds;
+      return phrase;
+    }
+    bool have_time = false, have_day = false, have_recurrence = false;
+    while (at_ < w_.size()) {
+      std::size_t start = at_;
+      if (!have_time) {
+        accept("at");
+        if (auto t = read_time_of_day()) {
+          phrase.time = *t;
+          have_time = true;
+          continue;
+        }
+        at_ = start;
+      }
+      if (!have_day && !have_recurrence) {
+        if (read_day(phrase)) {
+          have_day = true;
+          continue;
+        }
+        at_ = start;
+        if (read_recurrence(phrase)) {
+          have_recurrence = true;
+          if (phrase.kind == RecurrenceKind::kInterval) {
+            // "every 2 hours" stands alone.
+            if (at_ != w_.size() || have_time) return std::nullopt;
+            return phrase;
+          }
+          continue;
+        }
+        at_ = start;
+      }
+      return std::nullopt;
+    }
+    if (!have_time && !have_day && !have_recurrence) return std::nullopt;
+    return phrase;
+  }
+
+ private:
+  bool accept(std::string_view word) {
+    if (at_ < w_.size() && w_[at_] == word) {
+      ++at_;
+      return true;
+    }
+    return false;
+  }
+  bool accept_seq(std::initializer_list<std::string_view> seq) {
+    std::size_t start = at_;
+    for (auto word : seq) {
+      if (!accept(word)) {
+        at_ = start;
+        return false;
+      }
+    }
+    return true;
+  }
+  std::optional<std::int64_t> read_int(std::int64_t lo, std::int64_t hi) {
+    if (at_ >= w_.size()) return std::nullopt;
+    auto v = parse_integer(w_[at_]);
+    if (!v || *v < lo || *v > hi) return std::nullopt;
+    ++at_;
+    return v;
+  }
+
+  // "H", "H:MM", "H MM", "H oh M", "half past H", "quarter to H", "M [minutes] past H",
+  // "noon", "midnight"; then "o'clock" and a meridiem.
+  std::optional<TimeOfDay> read_time_of_day() {
+    std::size_t start = at_;
+    if (accept("noon") || accept("midday")) return TimeOfDay{12, 0, false};
+    if (accept("midnight")) return TimeOfDay{0, 0, false};
+
+    int hour = -1, minute = 0;
+    std::optional<int> relative;  // minutes past (+) or to (-) the hour
+    if (accept("half") && accept("past")) {
+      relative = 30;
+    } else {
+      at_ = start;
+      if ((accept_seq({"a", "quarter"}) || accept("quarter"))) {
+        if (accept("past")) {
+          relative = 15;
+        } else if (accept("to")) {
+          relative = -15;
+        } else {
+          at_ = start;
+          return std::nullopt;
+        }
+      } else if (auto m = read_int(1, 30)) {
+        std::size_t after_number = at_;
+        (void)(accept("minutes") || accept("minute") || accept("mins") || accept("min"));
+        if (accept("past")) {
+          relative = static_cast<int>(*m);
+        } else if (accept("to")) {
+          relative = -static_cast<int>(*m);
+        } else {
+          at_ = after_number - 1;  // not a relative time: re-read the number as the hour
+        }
+      }
+    }
+
+    if (relative) {
+      auto h = read_int(1, 12);
+      if (!h) {
+        at_ = start;
+        return std::nullopt;
+      }
+      hour = static_cast<int>(*h);
+      if (*relative >= 0) {
+        minute = *relative;
+      } else {
+        hour = hour == 1 ? 12 : hour - 1;  // "quarter to 1" = 12:45
+        minute = 60 + *relative;
+      }
+    } else if (at_ < w_.size()) {
+      const std::string& token = w_[at_];
+      std::size_t colon = token.find(':');
+      if (colon != std::string::npos) {
+        auto h = parse_integer(std::string_view(token).substr(0, colon));
+        std::string_view mm = std::string_view(token).substr(colon + 1);
+        auto m = parse_integer(mm);
+        if (!h || !m || mm.size() != 2 || *h > 23 || *m > 59) {
+          at_ = start;
+          return std::nullopt;
+        }
+        hour = static_cast<int>(*h);
+        minute = static_cast<int>(*m);
+        ++at_;
+      } else if (auto h = read_int(0, 24)) {
+        hour = static_cast<int>(*h == 24 ? 0 : *h);
+        std::size_t after_hour = at_;
+        if (accept("oh")) {
+          if (auto m = read_int(0, 9)) {
+            minute = static_cast<int>(*m);
+          } else {
+            at_ = after_hour;
+          }
+        } else if (at_ < w_.size() && w_[at_].size() == 2) {
+          // "7 30", "8 05": a two-digit minute right after the hour.
+          if (auto m = read_int(0, 59)) minute = static_cast<int>(*m);
+        }
+      } else {
+        at_ = start;
+        return std::nullopt;
+      }
+    } else {
+      at_ = start;
+      return std::nullopt;
+    }
+
+    accept("o'clock");
+    TimeOfDay time{hour, minute, false};
+    enum class Meridiem { kNone, kAm, kPm, kNight } meridiem = Meridiem::kNone;
+    if (accept("am") || accept_seq({"a", "m"}) || accept_seq({"in", "the", "morning"})) {
+      meridiem = Meridiem::kAm;
+    } else if (accept("pm") || accept_seq({"p", "m"}) ||
+               accept_seq({"in", "the", "afternoon"}) ||
+               accept_seq({"in", "the", "evening"}) || accept("tonight")) {
+      meridiem = Meridiem::kPm;
+    } else if (accept_seq({"at", "night"})) {
+      meridiem = Meridiem::kNight;
+    }
+    if (meridiem != Meridiem::kNone) {
+      if (hour < 1 || hour > 12) {
+        at_ = start;
+        return std::nullopt;
+      }
+      if (meridiem == Meridiem::kAm) {
+        time.hour = hour % 12;
+      } else if (meridiem == Meridiem::kPm) {
+        time.hour = hour % 12 + 12;
+      } else {  // night: 9..11 pm, 12 = midnight, 1..4 early morning
+        time.hour = hour == 12 ? 0 : (hour <= 4 ? hour : hour + 12);
+      }
+    } else if (hour >= 1 && hour <= 11) {
+      time.ambiguous = true;
+    }
+    return time;
+  }
+
+  bool read_day(TimePhrase& phrase) {
+    std::size_t start = at_;
+    if (accept("today")) {
+      phrase.day_offset = 0;
+      return true;
+    }
+    if (accept("tonight")) {
+      phrase.day_offset = 0;
+      phrase.evening = true;
+      return true;
+    }
+    if (accept("tomorrow")) {
+      phrase.day_offset = 1;
+      return true;
+    }
+    if (accept_seq({"the", "day", "after", "tomorrow"}) ||
+        accept_seq({"day", "after", "tomorrow"})) {
+      phrase.day_offset = 2;
+      return true;
+    }
+    (void)(accept("on") || accept("next") || accept("this") || accept("coming"));
+    bool plural = false;
+    if (at_ < w_.size()) {
+      if (auto d = weekday_of(w_[at_], &plural); d && !plural) {
+        ++at_;
+        phrase.weekday_mask = 1U << *d;
+        return true;
+      }
+    }
+    at_ = start;
+    return false;
+  }
+
+  // Weekday list after "every"/"on": "monday", "monday and wednesday", "mondays".
+  unsigned read_weekday_list(bool require_plural) {
+    unsigned mask = 0;
+    while (at_ < w_.size()) {
+      bool plural = false;
+      auto d = weekday_of(w_[at_], &plural);
+      if (!d || (require_plural && !plural)) break;
+      mask |= 1U << *d;
+      ++at_;
+      std::size_t before_and = at_;
+      if (!accept("and")) break;
+      bool next_plural = false;
+      if (at_ >= w_.size() || !weekday_of(w_[at_], &next_plural)) {
+        at_ = before_and;
+        break;
+      }
+    }
+    return mask;
+  }
+
+  void set_weekdays(TimePhrase& phrase, unsigned mask) {
+    phrase.weekday_mask = mask;
+    phrase.kind = mask == kMondayToFriday ? RecurrenceKind::kWeekdays : RecurrenceKind::kWeekly;
+  }
+
+  bool read_recurrence(TimePhrase& phrase) {
+    std::size_t start = at_;
+    if (accept("daily") || accept_seq({"every", "day"}) || accept_seq({"each", "day"})) {
+      phrase.kind = RecurrenceKind::kDaily;
+      return true;
+    }
+    if (accept_seq({"every", "weekday"}) || accept_seq({"on", "weekdays"}) ||
+        accept("weekdays") || accept_seq({"every", "working", "day"})) {
+      set_weekdays(phrase, kMondayToFriday);
+      return true;
+    }
+    if (accept_seq({"every", "weekend"}) || accept_seq({"on", "weekends"}) ||
+        accept_seq({"at", "weekends"}) || accept_seq({"on", "the", "weekend"})) {
+      set_weekdays(phrase, kWeekend);
+      return true;
+    }
+    if (accept("every") || accept("each")) {
+      std::size_t after_every = at_;
+      if (unsigned mask = read_weekday_list(false)) {
+        set_weekdays(phrase, mask);
+        return true;
+      }
+      at_ = after_every;
+      // Interval: "every 2 hours", "every hour", "every 30 minutes", "every half hour".
+      std::optional<std::int64_t> seconds;
+      if (at_ < w_.size()) {
+        if (auto unit = duration_unit_seconds(w_[at_]); unit && at_ + 1 == w_.size()) {
+          seconds = *unit;
+          ++at_;
+        } else if (accept_seq({"half", "hour"})) {
+          seconds = 1800;
+        } else {
+          seconds = parse_duration(w_.subspan(at_));
+          if (seconds) at_ = w_.size();
+        }
+      }
+      if (seconds && *seconds >= 60) {
+        phrase.kind = RecurrenceKind::kInterval;
+        phrase.every_seconds = *seconds;
+        return true;
+      }
+      at_ = start;
+      return false;
+    }
+    accept("on");
+    if (unsigned mask = read_weekday_list(true)) {
+      set_weekdays(phrase, mask);
+      return true;
+    }
+    at_ = start;
+    return false;
+  }
+
+  std::span<const std::string> w_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace
+
+std::optional<TimePhrase> parse_time_phrase(std::span<const std::string> words) {
+  if (words.empty() || words.size() > 12) return std::nullopt;
+  return TimeReader(words).read();
+}
+
+const char* weekday_name(int weekday) {
+  if (weekday < 0 || weekday > 6) return "";
+  return kWeekdays[static_cast<std::size_t>(weekday)].data();
+}
+
+}  // namespace marvin::interpret

@@ -1,0 +1,47 @@
+// Spoken date/time expressions -> a structured phrase (no clock involved yet).
+//
+// Supported (tokens as normalised, so "eight" is "8"):
+//   time of day   "8", "at 8", "8 pm", "8 o'clock", "7:30", "7 30", "8 oh 5", "noon",
+//                 "midnight", "half past 8", "quarter past 8", "quarter to 9", "10 past 8",
+//                 "20 minutes to 9", "8 in the morning/afternoon/evening", "10 at night"
+//   day           "today", "tonight" (evening hours), "tomorrow", "the day after tomorrow",
+//                 "monday", "on monday", "next monday", "this monday"
+//   relative      "in 20 minutes", "in an hour and a half" (nothing else may follow)
+//   recurrence    "every day", "daily", "each day", "every weekday", "on weekdays",
+//                 "every monday [and wednesday]", "on mondays", "every weekend",
+//                 "every 2 hours", "every hour", "every 30 minutes" (interval)
+// Parts may come in either order ("tomorrow at 9", "at 9 tomorrow", "at 10 on monday").
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+
+namespace marvin::interpret {
+
+struct TimeOfDay {
+  int hour = 0;    // 0..23; for an ambiguous hour, the morning reading (1..11)
+  int minute = 0;  // 0..59
+  bool ambiguous = false;  // "at 8": 08:00 or 20:00 (no am/pm, no 24-hour clue)
+};
+
+enum class RecurrenceKind { kOnce, kDaily, kWeekdays, kWeekly, kInterval };
+
+struct TimePhrase {
+  RecurrenceKind kind = RecurrenceKind::kOnce;
+  std::optional<TimeOfDay> time;            // absent: the day's default time (09:00)
+  std::optional<int> day_offset;            // today = 0, tomorrow = 1, ... (kOnce only)
+  bool evening = false;                     // "tonight": ambiguous hours read as pm
+  unsigned weekday_mask = 0;                // bit d = weekday d (0 = Sunday ... 6 = Saturday)
+  std::optional<std::int64_t> in_seconds;   // "in 20 minutes" (kOnce, nothing else)
+  std::int64_t every_seconds = 0;           // kInterval
+};
+
+// The whole span must be one expression; nullopt otherwise.
+std::optional<TimePhrase> parse_time_phrase(std::span<const std::string> words);
+
+// "sunday" ... "saturday" for 0..6.
+const char* weekday_name(int weekday);
+
+}  // namespace marvin::interpret

@@ -1,0 +1,167 @@
+#include "interpret/time_resolution.h"
+
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+
+#include <date/date.h>
+#include <date/tz.h>
+
+namespace marvin::interpret {
+namespace {
+
+using std::chrono::hours;
+using std::chrono::milliseconds;
+using std::chrono::minutes;
+using SysMs = date::sys_time<milliseconds>;
+using LocalMs = date::local_time<milliseconds>;
+
+constexpr int kDefaultHour = 9;
+
+const date::time_zone* find_zone(const std::string& name) {
+  try {
+    return date::locate_zone(name);
+  } catch (const std::exception&) {
+    throw std::runtime_error("unknown time zone \"" + name +
+                             "\" in Context::time_zone (expected an IANA name such as "
+                             "\"Europe/Berlin\")");
+  }
+}
+
+std::string format_local(LocalMs local) {
+  auto day = date::floor<date::days>(local);
+  date::year_month_day ymd{day};
+  auto since_midnight = date::floor<minutes>(local - day);
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%04d-%02u-%02uT%02d:%02d", static_cast<int>(ymd.year()),
+                static_cast<unsigned>(ymd.month()), static_cast<unsigned>(ymd.day()),
+                static_cast<int>(since_midnight.count() / 60),
+                static_cast<int>(since_midnight.count() % 60));
+  return buffer;
+}
+
+std::string format_hh_mm(int hour, int minute) {
+  char buffer[8];
+  std::snprintf(buffer, sizeof buffer, "%02d:%02d", hour, minute);
+  return buffer;
+}
+
+class Resolver {
+ public:
+  Resolver(std::int64_t now_utc_ms, const std::string& zone_name)
+      : zone_(find_zone(zone_name)), now_(milliseconds(now_utc_ms)) {
+    today_ = date::floor<date::days>(zone_->to_local(now_));
+  }
+
+  // The instant of `hour:minute` on `day`, local; gaps resolve to the transition.
+  SysMs instant(date::local_days day, int hour, int minute) const {
+    LocalMs local{day + hours(hour) + minutes(minute)};
+    return zone_->to_sys(local, date::choose::earliest);
+  }
+
+  // The first instant after now at hour:minute on one of the days today+first..today+last
+  // whose weekday is in `mask` (0 = any).
+  std::optional<SysMs> first_after_now(int first, int last, unsigned mask, int hour,
+                                       int minute) const {
+    for (int offset = first; offset <= last; ++offset) {
+      date::local_days day = today_ + date::days(offset);
+      unsigned weekday = date::weekday(day).c_encoding();
+      if (mask != 0 && (mask & (1U << weekday)) == 0) continue;
+      SysMs at = instant(day, hour, minute);
+      if (at > now_) return at;
+    }
+    return std::nullopt;
+  }
+
+  LocalMs local(SysMs at) const { return zone_->to_local(at); }
+  SysMs now() const { return now_; }
+  const date::time_zone* zone() const { return zone_; }
+
+ private:
+  const date::time_zone* zone_;
+  SysMs now_;
+  date::local_days today_;
+};
+
+nlohmann::json weekday_list(unsigned mask) {
+  nlohmann::json list = nlohmann::json::array();
+  for (int d = 1; d <= 7; ++d) {  // Monday first, Sunday last
+    int weekday = d % 7;
+    if ((mask & (1U << weekday)) != 0) list.push_back(weekday_name(weekday));
+  }
+  return list;
+}
+
+}  // namespace
+
+std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
+                                                  std::int64_t now_utc_ms,
+                                                  const std::string& time_zone) {
+  Resolver resolver(now_utc_ms, time_zone);
+  nlohmann::json recurrence = {{"kind", "once"}};
+  std::optional<SysMs> at;
+
+  if (phrase.in_seconds) {
+    at = resolver.now() + std::chrono::seconds(*phrase.in_seconds);
+  } else if (phrase.kind == RecurrenceKind::kInterval) {
+    at = resolver.now() + std::chrono::seconds(phrase.every_seconds);
+    recurrence = {{"kind", "interval"}, {"every_seconds", phrase.every_seconds}};
+  } else {
+    int hour = kDefaultHour, minute = 0;
+    bool both_readings = false;
+    if (phrase.time) {
+      hour = phrase.time->hour;
+      minute = phrase.time->minute;
+      if (phrase.time->ambiguous) {
+        if (phrase.evening) {
+          hour += 12;
+        } else if (phrase.kind == RecurrenceKind::kOnce && !phrase.day_offset &&
+                   phrase.weekday_mask == 0) {
+          both_readings = true;
+        } else if (hour <= 6) {
+          hour += 12;
+        }
+      }
+    }
+    switch (phrase.kind) {
+      case RecurrenceKind::kOnce:
+        if (phrase.day_offset) {
+          int day = *phrase.day_offset;
+          at = resolver.first_after_now(day, day, 0, hour, minute);
+        } else if (phrase.weekday_mask != 0) {
+          at = resolver.first_after_now(0, 7, phrase.weekday_mask, hour, minute);
+        } else {
+          at = resolver.first_after_now(0, 1, 0, hour, minute);
+          if (both_readings) {
+            auto pm = resolver.first_after_now(0, 1, 0, hour + 12, minute);
+            if (pm && (!at || *pm < *at)) at = pm;
+          }
+        }
+        break;
+      case RecurrenceKind::kDaily:
+        at = resolver.first_after_now(0, 1, 0, hour, minute);
+        recurrence = {{"kind", "daily"}, {"time", format_hh_mm(hour, minute)}};
+        break;
+      case RecurrenceKind::kWeekdays:
+      case RecurrenceKind::kWeekly:
+        at = resolver.first_after_now(0, 7, phrase.weekday_mask, hour, minute);
+        recurrence = {
+            {"kind", phrase.kind == RecurrenceKind::kWeekdays ? "weekdays" : "weekly"},
+            {"weekdays", weekday_list(phrase.weekday_mask)},
+            {"time", format_hh_mm(hour, minute)}};
+        break;
+      case RecurrenceKind::kInterval:
+        break;
+    }
+  }
+  if (!at) return std::nullopt;
+  return nlohmann::json{
+      {"at", format_local(resolver.local(*at))},
+      {"utc_ms", at->time_since_epoch().count()},
+      {"time_zone", time_zone},
+      {"time_given", phrase.time.has_value() || phrase.in_seconds.has_value() ||
+                         phrase.kind == RecurrenceKind::kInterval},
+      {"recurrence", recurrence}};
+}
+
+}  // namespace marvin::interpret

@@ -1,0 +1,36 @@
+// A parsed time phrase + the clock and time zone -> the slot value of a datetime slot:
+//   {"at":"YYYY-MM-DDTHH:MM", "utc_ms":N, "time_zone":"Europe/Berlin", "time_given":true,
+//    "recurrence":{"kind":"once"}}
+//   recurrence kinds: {"kind":"daily","time":"08:00"},
+//     {"kind":"weekdays","weekdays":["monday",...,"friday"],"time":"07:30"},
+//     {"kind":"weekly","weekdays":["monday"],"time":"10:00"},
+//     {"kind":"interval","every_seconds":7200}
+//
+// "at" is the first occurrence strictly after now, as local wall time. Rules:
+// - An ambiguous hour ("at 8") on its own is the next of 08:00 / 20:00. With a day or a
+//   recurrence it reads 7..11 as morning and 1..6 as afternoon ("tomorrow at 3" = 15:00);
+//   "tonight" reads it as evening.
+// - No time of day ("tomorrow", "every monday") means 09:00, with "time_given": false.
+// - A local time that does not exist (spring-forward gap) resolves to the instant of the
+//   transition (02:30 -> 03:00 in Europe/Berlin); a repeated one (fall-back) to its first
+//   occurrence.
+// - "today at 8" when 8 has passed is not a time (nullopt), and neither is a weekday that
+//   would need more than a week.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "interpret/time_expression.h"
+
+namespace marvin::interpret {
+
+// Throws std::runtime_error naming the zone if `time_zone` is not a known IANA zone.
+std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
+                                                  std::int64_t now_utc_ms,
+                                                  const std::string& time_zone);
+
+}  // namespace marvin::interpret

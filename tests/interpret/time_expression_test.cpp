@@ -1,0 +1,194 @@
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <string>
+
+#include <date/date.h>
+
+#include "interpret/interpreter.h"
+
+using namespace marvin::interpret;
+using namespace date::literals;
+using std::chrono::hours;
+using std::chrono::minutes;
+
+namespace {
+
+std::int64_t utc_ms(date::sys_days day, hours h, minutes m = minutes(0)) {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             (day + h + m).time_since_epoch())
+      .count();
+}
+
+// Friday 2024-03-29 10:00 in Berlin (CET, UTC+1): two days before the spring change.
+Context berlin_friday() {
+  Context context;
+  context.now_utc_ms = utc_ms(2024_y / 3 / 29, hours(9));
+  context.time_zone = "Europe/Berlin";
+  return context;
+}
+
+nlohmann::json when(const std::string& text, const Context& context) {
+  Interpreter interpreter;
+  SlotSpec slot{"when", SlotType::kDateTime, {}};
+  auto value = interpreter.parse_slot(slot, text, context);
+  if (!value) return nullptr;
+  return value->value;
+}
+
+}  // namespace
+
+TEST_CASE("time expressions: table against Friday 2024-03-29 10:00 Europe/Berlin") {
+  Context context = berlin_friday();
+  struct Case {
+    const char* text;
+    const char* at;
+    const char* kind;
+  };
+  const Case cases[] = {
+      {"at 8 pm", "2024-03-29T20:00", "once"},
+      {"at 8pm", "2024-03-29T20:00", "once"},
+      {"8 p.m.", "2024-03-29T20:00", "once"},
+      {"at eight", "2024-03-29T20:00", "once"},  // 08:00 has passed: the evening reading
+      {"at 11", "2024-03-29T11:00", "once"},     // 11:00 is still ahead
+      {"at 9", "2024-03-29T21:00", "once"},
+      {"at 8 am", "2024-03-30T08:00", "once"},  // passed today: tomorrow
+      {"at 20:30", "2024-03-29T20:30", "once"},
+      {"at eight thirty", "2024-03-29T20:30", "once"},
+      {"at half past eight in the evening", "2024-03-29T20:30", "once"},
+      {"at quarter to nine", "2024-03-29T20:45", "once"},
+      {"at ten past eleven", "2024-03-29T11:10", "once"},
+      {"at 20 minutes to 12", "2024-03-29T11:40", "once"},
+      {"at 8 o'clock", "2024-03-29T20:00", "once"},
+      {"at eight oh five", "2024-03-29T20:05", "once"},
+      {"at noon", "2024-03-29T12:00", "once"},
+      {"at midnight", "2024-03-30T00:00", "once"},
+      {"at 11 at night", "2024-03-29T23:00", "once"},
+      {"in 20 minutes", "2024-03-29T10:20", "once"},
+      {"in an hour and a half", "2024-03-29T11:30", "once"},
+      {"tomorrow at nine", "2024-03-30T09:00", "once"},
+      {"tomorrow at 3", "2024-03-30T15:00", "once"},  // 1..6 with a day: afternoon
+      {"at 9 tomorrow", "2024-03-30T09:00", "once"},
+      {"tomorrow", "2024-03-30T09:00", "once"},
+      {"the day after tomorrow at 7 30 am", "2024-03-31T07:30", "once"},
+      {"today at 5 pm", "2024-03-29T17:00", "once"},
+      {"tonight at 8", "2024-03-29T20:00", "once"},
+      {"on monday at 10", "2024-04-01T10:00", "once"},
+      {"at 10 on monday", "2024-04-01T10:00", "once"},
+      {"every day at 8", "2024-03-30T08:00", "daily"},
+      {"daily at 8 pm", "2024-03-29T20:00", "daily"},
+      {"every weekday at 7:30", "2024-04-01T07:30", "weekdays"},
+      {"on weekdays at 7:30", "2024-04-01T07:30", "weekdays"},
+      {"every monday at 10", "2024-04-01T10:00", "weekly"},
+      {"on mondays at 10", "2024-04-01T10:00", "weekly"},
+      {"every tuesday and thursday at 6 pm", "2024-04-02T18:00", "weekly"},
+      {"every weekend at 9", "2024-03-30T09:00", "weekly"},
+      {"every 2 hours", "2024-03-29T12:00", "interval"},
+      {"every hour", "2024-03-29T11:00", "interval"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.text);
+    nlohmann::json value = when(c.text, context);
+    REQUIRE(value.is_object());
+    CHECK(value["at"] == c.at);
+    CHECK(value["recurrence"]["kind"] == c.kind);
+    CHECK(value["time_zone"] == "Europe/Berlin");
+  }
+  // "next friday" on a Friday morning after 9: a week later (today's 09:00 has passed).
+  CHECK(when("next friday at 9", context)["at"] == "2024-04-05T09:00");
+  // Friday at 11 on a Friday at 10: today.
+  CHECK(when("on friday at 11", context)["at"] == "2024-03-29T11:00");
+}
+
+TEST_CASE("time expressions: recurrence objects and instants") {
+  Context context = berlin_friday();
+  nlohmann::json daily = when("every day at 8", context);
+  CHECK(daily["recurrence"] == nlohmann::json{{"kind", "daily"}, {"time", "08:00"}});
+  CHECK(daily["utc_ms"] == utc_ms(2024_y / 3 / 30, hours(7)));
+  CHECK(daily["time_given"] == true);
+
+  nlohmann::json weekdays = when("every weekday at 7:30", context);
+  CHECK(weekdays["recurrence"] ==
+        nlohmann::json{{"kind", "weekdays"},
+                       {"weekdays", {"monday", "tuesday", "wednesday", "thursday", "friday"}},
+                       {"time", "07:30"}});
+  nlohmann::json weekly = when("every sunday and tuesday at 6 pm", context);
+  CHECK(weekly["recurrence"]["weekdays"] == nlohmann::json{"tuesday", "sunday"});
+  CHECK(weekly["at"] == "2024-03-31T18:00");
+
+  nlohmann::json interval = when("every 30 minutes", context);
+  CHECK(interval["recurrence"] ==
+        nlohmann::json{{"kind", "interval"}, {"every_seconds", 1800}});
+  CHECK(interval["utc_ms"] == context.now_utc_ms + 1800 * 1000);
+
+  nlohmann::json relative = when("in 20 minutes", context);
+  CHECK(relative["utc_ms"] == context.now_utc_ms + 1200 * 1000);
+
+  nlohmann::json no_time = when("on monday", context);
+  CHECK(no_time["time_given"] == false);
+  CHECK(no_time["at"] == "2024-04-01T09:00");
+}
+
+TEST_CASE("time expressions: spring forward in Europe/Berlin (2024-03-31)") {
+  Context context;
+  context.time_zone = "Europe/Berlin";
+  context.now_utc_ms = utc_ms(2024_y / 3 / 30, hours(9));  // Saturday 10:00 CET
+
+  // 02:30 does not exist on Sunday: the reminder fires at the transition, 03:00 CEST.
+  nlohmann::json gap = when("tomorrow at 2:30 am", context);
+  CHECK(gap["at"] == "2024-03-31T03:00");
+  CHECK(gap["utc_ms"] == utc_ms(2024_y / 3 / 31, hours(1)));
+
+  // "tomorrow at 10" is only 23 hours away; "in 24 hours" lands at 11:00 local.
+  CHECK(when("tomorrow at 10", context)["utc_ms"] == utc_ms(2024_y / 3 / 31, hours(8)));
+  CHECK(when("in 24 hours", context)["at"] == "2024-03-31T11:00");
+  // A daily time keeps its wall-clock hour across the change.
+  nlohmann::json daily = when("every day at 8", context);
+  CHECK(daily["at"] == "2024-03-31T08:00");
+  CHECK(daily["utc_ms"] == utc_ms(2024_y / 3 / 31, hours(6)));
+}
+
+TEST_CASE("time expressions: fall back in Europe/Berlin (2024-10-27)") {
+  Context context;
+  context.time_zone = "Europe/Berlin";
+  context.now_utc_ms = utc_ms(2024_y / 10 / 26, hours(10));  // Saturday 12:00 CEST
+
+  // 02:30 happens twice: the first one (CEST, 00:30 UTC).
+  nlohmann::json twice = when("tomorrow at 2:30 am", context);
+  CHECK(twice["at"] == "2024-10-27T02:30");
+  CHECK(twice["utc_ms"] == utc_ms(2024_y / 10 / 27, hours(0), minutes(30)));
+  // "tomorrow at 10" is 25 hours away (CET, 09:00 UTC).
+  CHECK(when("tomorrow at 10", context)["utc_ms"] == utc_ms(2024_y / 10 / 27, hours(9)));
+}
+
+TEST_CASE("time expressions: other zones and UTC") {
+  Context context;  // UTC by default
+  context.now_utc_ms = utc_ms(2024_y / 7 / 1, hours(23), minutes(50));  // Monday
+  CHECK(when("in 20 minutes", context)["at"] == "2024-07-02T00:10");
+  CHECK(when("at 8", context)["at"] == "2024-07-02T08:00");
+
+  context.time_zone = "America/New_York";  // 19:50 EDT
+  CHECK(when("at 8", context)["at"] == "2024-07-01T20:00");
+  CHECK(when("tomorrow at 8", context)["at"] == "2024-07-02T08:00");
+}
+
+TEST_CASE("time expressions: not times") {
+  Context context = berlin_friday();
+  const char* cases[] = {"",         "at",          "at 25",           "at 13 pm",
+                         "tomorrow tomorrow",       "every",           "in",
+                         "in 20",    "at 8 at 9",   "today at 8 am",   "eight apples",
+                         "at 7:75",  "every 2 hours at 8",             "in 20 minutes tomorrow",
+                         "on",       "every 10 seconds"};
+  for (const char* text : cases) {
+    CAPTURE(text);
+    CHECK(when(text, context).is_null());
+  }
+}
+
+TEST_CASE("time expressions: unknown time zone is reported") {
+  Context context = berlin_friday();
+  context.time_zone = "Mars/Olympus";
+  Interpreter interpreter;
+  CHECK_THROWS_WITH(interpreter.parse_slot({"when", SlotType::kDateTime, {}}, "at 8", context),
+                    doctest::Contains("unknown time zone \"Mars/Olympus\""));
+}
