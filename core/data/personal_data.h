@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -72,6 +73,16 @@ class PersonalData {
   virtual std::optional<Reminder> get_reminder(std::int64_t id) = 0;
   // Marks the reminder cancelled; false if there is no active reminder with that id.
   virtual bool remove_reminder(std::int64_t id) = 0;
+  // "Remind me again in ten minutes": the reminder fires next at `until_utc_ms` (a done
+  // one-off reminder becomes active again), then its recurrence goes on after that instant.
+  // False if there is no active or done reminder with that id. The default implementation
+  // throws: stores that predate snoozing need not support it.
+  virtual bool snooze_reminder(std::int64_t id, std::int64_t until_utc_ms);
+  // "I took them": a one-off reminder becomes done and will not fire again; a recurring one
+  // keeps its series (the occurrence that fired is acknowledged in the event log; cancel
+  // the series with remove_reminder). False if there is no active reminder with that id.
+  // The default implementation throws.
+  virtual bool complete_reminder(std::int64_t id);
 
   // Contacts. find_contacts matches name or alias, case-insensitively.
   virtual std::int64_t add_contact(const Contact& contact) = 0;
@@ -92,5 +103,12 @@ class PersonalData {
   virtual void log_event(std::string_view kind, std::string_view source,
                          std::string_view message) = 0;
 };
+
+inline bool PersonalData::snooze_reminder(std::int64_t, std::int64_t) {
+  throw std::runtime_error("snooze_reminder: this personal data store cannot snooze reminders");
+}
+inline bool PersonalData::complete_reminder(std::int64_t) {
+  throw std::runtime_error("complete_reminder: this personal data store cannot mark reminders done");
+}
 
 }  // namespace marvin::data

@@ -1,0 +1,323 @@
+// `marvin data export|import`, `marvin contacts add|list|remove`,
+// `marvin schedule add|list|remove`, `marvin people list`: the carer's view of the
+// personal data store. Every command takes --data-dir (default: default_data_dir()).
+#include <date/tz.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/cli.h"
+#include "data/recurrence.h"
+#include "data/sqlite_store.h"
+
+namespace marvin::app {
+namespace {
+
+using data::Recurrence;
+using data::SqliteStore;
+
+struct DataDirOption {
+  std::string dir;
+  void add_to(CLI::App& cmd) {
+    cmd.add_option("--data-dir", dir,
+                   "Directory holding marvin.db (default: $MARVIN_DATA_DIR, "
+                   "$XDG_DATA_HOME/marvin, ~/.local/share/marvin)");
+  }
+  SqliteStore open() const {
+    data::StoreOptions o;
+    o.path = data::database_path(dir.empty() ? data::default_data_dir() : std::filesystem::path(dir));
+    return SqliteStore(o);
+  }
+};
+
+std::string join(const std::vector<std::string>& parts, const char* sep) {
+  std::string out;
+  for (const auto& p : parts) {
+    if (!out.empty()) out += sep;
+    out += p;
+  }
+  return out;
+}
+
+// The owner's zone: $TZ if it names a zone, else the system's, else UTC.
+std::string local_zone() {
+  if (const char* tz = std::getenv("TZ"); tz && *tz) {
+    try {
+      return std::string(date::locate_zone(*tz == ':' ? tz + 1 : tz)->name());
+    } catch (const std::exception&) {
+    }
+  }
+  try {
+    return std::string(date::current_zone()->name());
+  } catch (const std::exception&) {
+    return "UTC";
+  }
+}
+
+std::int32_t parse_hhmm(const std::string& text, const std::string& what) {
+  int h = -1, m = -1, used = 0;
+  if (std::sscanf(text.c_str(), "%2d:%2d%n", &h, &m, &used) != 2 ||
+      used != static_cast<int>(text.size()) || h < 0 || h > 24 || m < 0 || m > 59 ||
+      h * 60 + m > 24 * 60)
+    throw CliError(what + ": '" + text + "' is not a time of day HH:MM", 2);
+  return h * 60 + m;
+}
+
+// once | daily | weekdays | weekly:mon,thu | every:MINUTES (with --window HH:MM-HH:MM)
+Recurrence parse_repeat(const std::string& repeat, const std::string& window) {
+  Recurrence r;
+  static const char* kDays[] = {"mon", "tue", "wed", "thu", "fri", "sat", "sun"};
+  if (repeat == "once") {
+    r.kind = Recurrence::Kind::kOnce;
+  } else if (repeat == "daily") {
+    r.kind = Recurrence::Kind::kDaily;
+  } else if (repeat == "weekdays") {
+    r.kind = Recurrence::Kind::kWeekdays;
+  } else if (repeat.rfind("weekly:", 0) == 0) {
+    r.kind = Recurrence::Kind::kWeekly;
+    std::stringstream days(repeat.substr(7));
+    for (std::string day; std::getline(days, day, ',');) {
+      int index = -1;
+      for (int i = 0; i < 7; ++i)
+        if (day == kDays[i]) index = i;
+      if (index < 0)
+        throw CliError("--repeat: unknown day '" + day + "' (expected mon,tue,wed,thu,fri,sat,sun)", 2);
+      r.weekdays = static_cast<std::uint8_t>(r.weekdays | (1u << index));
+    }
+  } else if (repeat.rfind("every:", 0) == 0) {
+    r.kind = Recurrence::Kind::kInterval;
+    const std::string minutes = repeat.substr(6);
+    if (minutes.empty() || minutes.find_first_not_of("0123456789") != std::string::npos ||
+        minutes.size() > 4)
+      throw CliError("--repeat: 'every:' needs a number of minutes, got '" + minutes + "'", 2);
+    r.interval_minutes = std::stoi(minutes);
+  } else {
+    throw CliError("--repeat: unknown '" + repeat +
+                       "' (expected once, daily, weekdays, weekly:mon,thu or every:MINUTES)", 2);
+  }
+  if (!window.empty()) {
+    if (r.kind != Recurrence::Kind::kInterval)
+      throw CliError("--window only applies to --repeat every:MINUTES", 2);
+    const auto dash = window.find('-');
+    if (dash == std::string::npos) throw CliError("--window: expected HH:MM-HH:MM", 2);
+    r.window_start_minute = parse_hhmm(window.substr(0, dash), "--window");
+    r.window_end_minute = parse_hhmm(window.substr(dash + 1), "--window");
+  }
+  return r;
+}
+
+void print_reminder(const data::Reminder& r) {
+  std::printf("%lld  %s  %-16s %s  (%s, by %s)\n", static_cast<long long>(r.id),
+              data::format_local(r.next_fire_utc_ms, r.time_zone).c_str(),
+              data::describe(r.recurrence).c_str(), r.title.c_str(), r.time_zone.c_str(),
+              r.created_by.c_str());
+}
+
+// Writes `text` to `path` through a temporary file, fsync and rename: a crash leaves
+// either the old file or the complete new one.
+void write_file_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+  if (fd < 0) throw CliError("cannot write " + tmp + ": " + std::strerror(errno));
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0) {
+      ::close(fd);
+      throw CliError("cannot write " + tmp + ": " + std::strerror(errno));
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0 || ::close(fd) != 0)
+    throw CliError("cannot write " + tmp + ": " + std::strerror(errno));
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw CliError("cannot rename " + tmp + " to " + path + ": " + std::strerror(errno));
+}
+
+void install_data(CLI::App& root) {
+  // --- marvin data ------------------------------------------------------------------
+  CLI::App& data_group = command_group(root, "data", "Back up and restore the personal data");
+  {
+    auto* cmd = data_group.add_subcommand("export", "Write all personal data to a JSON file");
+    auto dir = std::make_shared<DataDirOption>();
+    auto file = std::make_shared<std::string>();
+    cmd->add_option("FILE", *file, "Backup file to write (JSON)")->required();
+    dir->add_to(*cmd);
+    cmd->callback([dir, file] {
+      SqliteStore store = dir->open();
+      const nlohmann::json doc = store.export_json();
+      write_file_atomically(*file, doc.dump(2) + "\n");
+      std::printf("exported %zu reminders, %zu contacts, %zu people to %s\n",
+                  doc["reminders"].size(), doc["contacts"].size(), doc["people"].size(),
+                  file->c_str());
+    });
+  }
+  {
+    auto* cmd = data_group.add_subcommand(
+        "import", "Restore personal data from a JSON backup (replaces what is stored)");
+    auto dir = std::make_shared<DataDirOption>();
+    auto file = std::make_shared<std::string>();
+    auto replace = std::make_shared<bool>(false);
+    cmd->add_option("FILE", *file, "Backup file made by `marvin data export`")->required();
+    cmd->add_flag("--replace", *replace, "Overwrite a database that already holds data");
+    dir->add_to(*cmd);
+    cmd->callback([dir, file, replace] {
+      std::ifstream in(*file, std::ios::binary);
+      if (!in) throw CliError("cannot read " + *file + ": " + std::strerror(errno));
+      nlohmann::json doc;
+      try {
+        doc = nlohmann::json::parse(in);
+      } catch (const nlohmann::json::parse_error& e) {
+        throw CliError(*file + ": not valid JSON (" + e.what() + "); nothing was imported");
+      }
+      SqliteStore store = dir->open();
+      if (!*replace && store.row_count() > 0)
+        throw CliError("database " + store.path().string() +
+                       " already holds data; pass --replace to overwrite it with " + *file +
+                       " (export it first if unsure)");
+      try {
+        store.import_json(doc, *file);
+      } catch (const std::exception& e) {
+        throw CliError(std::string(e.what()) + "; nothing was imported");
+      }
+      std::printf("imported %zu reminders, %zu contacts, %zu people from %s\n",
+                  doc["reminders"].size(), doc["contacts"].size(), doc["people"].size(),
+                  file->c_str());
+    });
+  }
+
+  // --- marvin contacts ------------------------------------------------------------------
+  CLI::App& contacts = command_group(root, "contacts", "The owner's contacts");
+  {
+    auto* cmd = contacts.add_subcommand("add", "Add a contact");
+    auto dir = std::make_shared<DataDirOption>();
+    auto c = std::make_shared<data::Contact>();
+    cmd->add_option("NAME", c->name, "Full name, e.g. \"Anna Schmidt\"")->required();
+    cmd->add_option("--phone", c->phone_numbers, "Phone number (repeatable)");
+    cmd->add_option("--alias", c->aliases, "Another name, e.g. \"my daughter\" (repeatable)");
+    cmd->add_option("--relation", c->relation, "e.g. daughter, doctor");
+    dir->add_to(*cmd);
+    cmd->callback([dir, c] {
+      SqliteStore store = dir->open();
+      std::printf("added contact %lld %s\n", static_cast<long long>(store.add_contact(*c)),
+                  c->name.c_str());
+    });
+  }
+  {
+    auto* cmd = contacts.add_subcommand("list", "List contacts");
+    auto dir = std::make_shared<DataDirOption>();
+    dir->add_to(*cmd);
+    cmd->callback([dir] {
+      SqliteStore store = dir->open();
+      for (const data::Contact& c : store.list_contacts()) {
+        std::printf("%lld  %s", static_cast<long long>(c.id), c.name.c_str());
+        if (!c.relation.empty()) std::printf(" (%s)", c.relation.c_str());
+        if (!c.phone_numbers.empty()) std::printf("  %s", join(c.phone_numbers, ", ").c_str());
+        if (!c.aliases.empty()) std::printf("  aka %s", join(c.aliases, ", ").c_str());
+        std::printf("\n");
+      }
+    });
+  }
+  {
+    auto* cmd = contacts.add_subcommand("remove", "Remove a contact by id");
+    auto dir = std::make_shared<DataDirOption>();
+    auto id = std::make_shared<std::int64_t>(0);
+    cmd->add_option("ID", *id, "Contact id (see `marvin contacts list`)")->required();
+    dir->add_to(*cmd);
+    cmd->callback([dir, id] {
+      SqliteStore store = dir->open();
+      if (!store.remove_contact(*id))
+        throw CliError("no contact with id " + std::to_string(*id));
+      std::printf("removed contact %lld\n", static_cast<long long>(*id));
+    });
+  }
+
+  // --- marvin schedule ----------------------------------------------------------------
+  CLI::App& schedule = command_group(root, "schedule", "Reminders and schedules");
+  {
+    auto* cmd = schedule.add_subcommand("add", "Add a reminder");
+    auto dir = std::make_shared<DataDirOption>();
+    struct Args {
+      std::string title, at, tz, repeat = "once", window;
+    };
+    auto a = std::make_shared<Args>();
+    cmd->add_option("TITLE", a->title, "What to remind of, e.g. \"take my pills\"")->required();
+    cmd->add_option("--at", a->at, "First time, local: YYYY-MM-DDTHH:MM")->required();
+    cmd->add_option("--tz", a->tz, "IANA time zone (default: $TZ or the system's)");
+    cmd->add_option("--repeat", a->repeat,
+                    "once | daily | weekdays | weekly:mon,thu | every:MINUTES (default once)");
+    cmd->add_option("--window", a->window, "With every:MINUTES: HH:MM-HH:MM (end exclusive)");
+    dir->add_to(*cmd);
+    cmd->callback([dir, a] {
+      data::Reminder r;
+      r.title = a->title;
+      r.time_zone = a->tz.empty() ? local_zone() : a->tz;
+      r.recurrence = parse_repeat(a->repeat, a->window);
+      r.created_by = "user";
+      try {
+        r.first_fire_utc_ms = data::local_to_utc_ms(a->at, r.time_zone);
+      } catch (const std::exception& e) {
+        throw CliError(std::string("--at: ") + e.what(), 2);
+      }
+      SqliteStore store = dir->open();
+      const auto id = store.add_reminder(r);
+      print_reminder(*store.get_reminder(id));
+    });
+  }
+  {
+    auto* cmd = schedule.add_subcommand("list", "List active reminders, soonest first");
+    auto dir = std::make_shared<DataDirOption>();
+    dir->add_to(*cmd);
+    cmd->callback([dir] {
+      SqliteStore store = dir->open();
+      for (const data::Reminder& r : store.list_reminders()) print_reminder(r);
+    });
+  }
+  {
+    auto* cmd = schedule.add_subcommand("remove", "Cancel a reminder by id");
+    auto dir = std::make_shared<DataDirOption>();
+    auto id = std::make_shared<std::int64_t>(0);
+    cmd->add_option("ID", *id, "Reminder id (see `marvin schedule list`)")->required();
+    dir->add_to(*cmd);
+    cmd->callback([dir, id] {
+      SqliteStore store = dir->open();
+      if (!store.remove_reminder(*id))
+        throw CliError("no active reminder with id " + std::to_string(*id));
+      std::printf("cancelled reminder %lld\n", static_cast<long long>(*id));
+    });
+  }
+
+  // --- marvin people ------------------------------------------------------------------
+  CLI::App& people = command_group(root, "people", "The people Marvin knows by face");
+  {
+    auto* cmd = people.add_subcommand("list", "List people and their face embeddings");
+    auto dir = std::make_shared<DataDirOption>();
+    dir->add_to(*cmd);
+    cmd->callback([dir] {
+      SqliteStore store = dir->open();
+      for (const data::Person& p : store.list_people()) {
+        std::printf("%lld  %s", static_cast<long long>(p.id), p.name.c_str());
+        if (p.contact_id) std::printf("  contact %lld", static_cast<long long>(*p.contact_id));
+        const auto faces = store.face_embeddings(p.id);
+        std::printf("  %zu face embedding%s", faces.size(), faces.size() == 1 ? "" : "s");
+        if (!faces.empty())
+          std::printf(" (%s, %zu)", faces.front().model_id.c_str(), faces.front().values.size());
+        std::printf("\n");
+      }
+    });
+  }
+}
+
+}  // namespace
+
+MARVIN_CLI_COMMANDS(install_data);
+
+}  // namespace marvin::app

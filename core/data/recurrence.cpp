@@ -1,0 +1,224 @@
+#include "data/recurrence.h"
+
+#include <date/date.h>
+#include <date/tz.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+namespace marvin::data {
+namespace {
+
+using std::chrono::milliseconds;
+using std::chrono::minutes;
+using std::chrono::seconds;
+using LocalMs = date::local_time<milliseconds>;
+using SysMs = date::sys_time<milliseconds>;
+
+const date::time_zone* zone_named(std::string_view name) {
+  try {
+    return date::locate_zone(name);
+  } catch (const std::exception&) {
+    throw std::runtime_error("time_zone: unknown IANA time zone '" + std::string(name) + "'");
+  }
+}
+
+// Local time to UTC: the spring gap maps to the end of the gap, the autumn fold to its
+// first (earlier) instant.
+std::int64_t resolve(const date::time_zone* zone, LocalMs local) {
+  SysMs sys = zone->to_sys(local, date::choose::earliest);
+  return sys.time_since_epoch().count();
+}
+
+LocalMs to_local(const date::time_zone* zone, std::int64_t utc_ms) {
+  return zone->to_local(SysMs{milliseconds{utc_ms}});
+}
+
+// Monday = 0 ... Sunday = 6.
+unsigned monday_based(date::local_days day) {
+  return (date::weekday{day}.c_encoding() + 6) % 7;
+}
+
+bool day_allowed(const Recurrence& r, date::local_days day) {
+  switch (r.kind) {
+    case Recurrence::Kind::kDaily:
+      return true;
+    case Recurrence::Kind::kWeekdays:
+      return monday_based(day) < 5;
+    case Recurrence::Kind::kWeekly:
+      return (r.weekdays >> monday_based(day)) & 1u;
+    case Recurrence::Kind::kInterval:
+      return r.weekdays == 0 || ((r.weekdays >> monday_based(day)) & 1u);
+    case Recurrence::Kind::kOnce:
+      return false;
+  }
+  return false;
+}
+
+// The occurrences on one local day, ascending in UTC.
+void day_slots(const Reminder& r, const date::time_zone* zone, milliseconds time_of_day,
+               date::local_days day, std::vector<std::int64_t>& out) {
+  out.clear();
+  if (!day_allowed(r.recurrence, day)) return;
+  const LocalMs midnight{day};
+  if (r.recurrence.kind == Recurrence::Kind::kInterval) {
+    for (std::int32_t m = r.recurrence.window_start_minute; m < r.recurrence.window_end_minute;
+         m += r.recurrence.interval_minutes) {
+      const std::int64_t utc = resolve(zone, midnight + minutes{m});
+      // Two slots in one spring gap resolve to the same instant: fire once.
+      if (out.empty() || utc > out.back()) out.push_back(utc);
+    }
+  } else {
+    out.push_back(resolve(zone, midnight + time_of_day));
+  }
+}
+
+struct Walk {
+  const date::time_zone* zone;
+  milliseconds time_of_day;
+  date::local_days first_day;
+};
+
+Walk start_walk(const Reminder& r) {
+  validate_reminder(r);
+  const date::time_zone* zone = zone_named(r.time_zone);
+  const LocalMs first = to_local(zone, r.first_fire_utc_ms);
+  const auto first_day = date::floor<date::days>(first);
+  return {zone, first - first_day, first_day};
+}
+
+// Weekly reminders may skip six days; interval windows and time zones shift at most a day.
+constexpr int kSearchDays = 9;
+
+}  // namespace
+
+void validate_reminder(const Reminder& r) {
+  if (r.title.empty()) throw std::runtime_error("title: a reminder needs a title");
+  zone_named(r.time_zone);
+  const Recurrence& rec = r.recurrence;
+  switch (rec.kind) {
+    case Recurrence::Kind::kOnce:
+    case Recurrence::Kind::kDaily:
+    case Recurrence::Kind::kWeekdays:
+      break;
+    case Recurrence::Kind::kWeekly:
+      if (rec.weekdays == 0 || rec.weekdays > 0x7f)
+        throw std::runtime_error("recurrence.weekdays: a weekly reminder needs days in 1..127 "
+                                 "(bit 0 = Monday), got " + std::to_string(rec.weekdays));
+      break;
+    case Recurrence::Kind::kInterval:
+      if (rec.interval_minutes < 1 || rec.interval_minutes > 24 * 60)
+        throw std::runtime_error("recurrence.interval_minutes: expected 1..1440, got " +
+                                 std::to_string(rec.interval_minutes));
+      if (rec.window_start_minute < 0 || rec.window_end_minute > 24 * 60 ||
+          rec.window_start_minute >= rec.window_end_minute)
+        throw std::runtime_error("recurrence.window: expected 0 <= start < end <= 1440 minutes, got " +
+                                 std::to_string(rec.window_start_minute) + ".." +
+                                 std::to_string(rec.window_end_minute));
+      if (rec.weekdays > 0x7f)
+        throw std::runtime_error("recurrence.weekdays: expected 0..127, got " +
+                                 std::to_string(rec.weekdays));
+      break;
+    default:
+      throw std::runtime_error("recurrence.kind: unknown kind " +
+                               std::to_string(static_cast<int>(rec.kind)));
+  }
+}
+
+std::optional<std::int64_t> next_occurrence(const Reminder& r, std::int64_t after_utc_ms) {
+  if (r.recurrence.kind == Recurrence::Kind::kOnce) {
+    validate_reminder(r);
+    if (r.first_fire_utc_ms > after_utc_ms) return r.first_fire_utc_ms;
+    return std::nullopt;
+  }
+  const Walk w = start_walk(r);
+  // Nothing happens before the first occurrence.
+  const std::int64_t bound = std::max(after_utc_ms, r.first_fire_utc_ms - 1);
+  auto day = std::max(w.first_day, date::floor<date::days>(to_local(w.zone, bound)) - date::days{1});
+  std::vector<std::int64_t> slots;
+  for (int i = 0; i < kSearchDays + 2; ++i, day += date::days{1}) {
+    day_slots(r, w.zone, w.time_of_day, day, slots);
+    for (std::int64_t s : slots)
+      if (s > bound) return s;
+  }
+  return std::nullopt;  // unreachable for a valid recurrence
+}
+
+std::optional<std::int64_t> last_occurrence_at_or_before(const Reminder& r,
+                                                         std::int64_t at_utc_ms) {
+  if (at_utc_ms < r.first_fire_utc_ms) return std::nullopt;
+  if (r.recurrence.kind == Recurrence::Kind::kOnce) return r.first_fire_utc_ms;
+  const Walk w = start_walk(r);
+  auto day = date::floor<date::days>(to_local(w.zone, at_utc_ms)) + date::days{1};
+  std::vector<std::int64_t> slots;
+  for (int i = 0; i < kSearchDays + 2 && day >= w.first_day; ++i, day -= date::days{1}) {
+    day_slots(r, w.zone, w.time_of_day, day, slots);
+    for (auto it = slots.rbegin(); it != slots.rend(); ++it)
+      if (*it <= at_utc_ms && *it >= r.first_fire_utc_ms) return *it;
+  }
+  return std::nullopt;
+}
+
+std::int64_t local_to_utc_ms(std::string_view text, std::string_view time_zone) {
+  const date::time_zone* zone = zone_named(time_zone);
+  int y = 0, mo = 0, d = 0, h = 0, mi = 0, s = 0, used = 0;
+  const std::string copy(text);
+  bool parsed = std::sscanf(copy.c_str(), "%4d-%2d-%2d%*1[T ]%2d:%2d%n", &y, &mo, &d, &h, &mi,
+                            &used) == 5 && used == static_cast<int>(copy.size());
+  if (!parsed) {
+    used = 0;
+    parsed = std::sscanf(copy.c_str(), "%4d-%2d-%2d%*1[T ]%2d:%2d:%2d%n", &y, &mo, &d, &h, &mi,
+                         &s, &used) == 6 && used == static_cast<int>(copy.size());
+  }
+  const auto ymd = date::year{y} / date::month{static_cast<unsigned>(mo)} /
+                   date::day{static_cast<unsigned>(d)};
+  if (!parsed || !ymd.ok() || h < 0 || h > 23 || mi < 0 || mi > 59 || s < 0 || s > 59) {
+    throw std::runtime_error("time '" + copy + "': expected local time YYYY-MM-DDTHH:MM");
+  }
+  const LocalMs local = LocalMs{date::local_days{ymd}} + std::chrono::hours{h} + minutes{mi} +
+                        seconds{s};
+  return resolve(zone, local);
+}
+
+std::string format_local(std::int64_t utc_ms, std::string_view time_zone) {
+  const date::time_zone* zone = zone_named(time_zone);
+  return date::format("%Y-%m-%d %H:%M", date::floor<minutes>(to_local(zone, utc_ms)));
+}
+
+std::string describe(const Recurrence& r) {
+  static constexpr std::array<const char*, 7> kDays{"mon", "tue", "wed", "thu",
+                                                    "fri", "sat", "sun"};
+  auto days = [&] {
+    std::string out;
+    for (unsigned i = 0; i < 7; ++i)
+      if ((r.weekdays >> i) & 1u) {
+        if (!out.empty()) out += ',';
+        out += kDays[i];
+      }
+    return out;
+  };
+  auto hhmm = [](std::int32_t m) {
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "%02d:%02d", (m / 60) % 100, m % 60);
+    return std::string(buf);
+  };
+  switch (r.kind) {
+    case Recurrence::Kind::kOnce: return "once";
+    case Recurrence::Kind::kDaily: return "daily";
+    case Recurrence::Kind::kWeekdays: return "weekdays";
+    case Recurrence::Kind::kWeekly: return "weekly " + days();
+    case Recurrence::Kind::kInterval: {
+      std::string out = "every " + std::to_string(r.interval_minutes) + " min " +
+                        hhmm(r.window_start_minute) + "-" + hhmm(r.window_end_minute);
+      if (r.weekdays != 0) out += " on " + days();
+      return out;
+    }
+  }
+  return "?";
+}
+
+}  // namespace marvin::data
