@@ -6,6 +6,7 @@
 
 #include "app/cli.h"
 #include "graph/graph.h"
+#include "perception/voice_nodes.h"
 
 namespace marvin::app {
 namespace {
@@ -69,6 +70,9 @@ void run(const RunArgs& args) {
 }
 
 void install_graph(CLI::App& root) {
+  // The voice nodes live in a static library; register them explicitly so graph files can
+  // name them (a registration object in an unreferenced archive member is dropped).
+  perception::register_voice_nodes();
   CLI::App* group = root.add_subcommand("graph", "Run, check or draw a perception graph (JSON)");
   group->require_subcommand(1);
 

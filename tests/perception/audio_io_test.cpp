@@ -1,0 +1,100 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <string>
+#include <unistd.h>
+
+#include "devices/audio/alsa_device.h"
+#include "devices/audio/resampler.h"
+#include "devices/audio/sound_file.h"
+
+namespace fs = std::filesystem;
+using namespace marvin::audio;
+
+namespace {
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("marvin_audio_test_" + std::to_string(::getpid()));
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+SoundBuffer stereo_tone(int rate, double seconds, double hz) {
+  SoundBuffer sound;
+  sound.sample_rate = rate;
+  sound.channels = 2;
+  const auto frames = static_cast<std::size_t>(rate * seconds);
+  for (std::size_t i = 0; i < frames; ++i) {
+    const auto v = static_cast<float>(0.5 * std::sin(2 * std::numbers::pi * hz * static_cast<double>(i) / rate));
+    sound.samples.push_back(v);
+    sound.samples.push_back(v);
+  }
+  return sound;
+}
+
+// Upward zero crossings per second: the tone's frequency.
+double frequency(const std::vector<std::int16_t>& pcm, int rate) {
+  int crossings = 0;
+  for (std::size_t i = 1; i < pcm.size(); ++i) crossings += pcm[i - 1] < 0 && pcm[i] >= 0;
+  return crossings * static_cast<double>(rate) / static_cast<double>(pcm.size());
+}
+
+}  // namespace
+
+TEST_CASE("WAV and FLAC round trip and conversion to 16 kHz mono") {
+  TempDir dir;
+  const SoundBuffer sound = stereo_tone(44100, 1.0, 440.0);
+  for (const char* name : {"tone.wav", "tone.flac"}) {
+    CAPTURE(name);
+    const fs::path file = dir.path / name;
+    write_sound_file(file, sound);
+    const SoundBuffer back = read_sound_file(file);
+    CHECK(back.sample_rate == 44100);
+    CHECK(back.channels == 2);
+    REQUIRE(back.frames() == sound.frames());
+    for (std::size_t i = 0; i < back.samples.size(); i += 997) {
+      CHECK(back.samples[i] == doctest::Approx(sound.samples[i]).epsilon(0.001).scale(1.0));
+    }
+    const std::vector<std::int16_t> speech = read_speech_file(file);
+    CHECK(static_cast<double>(speech.size()) == doctest::Approx(16000.0).epsilon(0.01));
+    CHECK(frequency(speech, 16000) == doctest::Approx(440.0).epsilon(0.02));
+  }
+}
+
+TEST_CASE("streaming resampler agrees with the one-shot conversion in length and pitch") {
+  const SoundBuffer sound = stereo_tone(22050, 1.0, 300.0);
+  const std::vector<float> mono = mix_to_mono(sound.samples, 2);
+  StreamResampler stream(22050, 16000);
+  std::vector<float> out;
+  for (std::size_t pos = 0; pos < mono.size(); pos += 441) {
+    stream.process(std::span<const float>(mono).subspan(pos, std::min<std::size_t>(441, mono.size() - pos)), out);
+  }
+  stream.flush(out);
+  CHECK(static_cast<double>(out.size()) == doctest::Approx(16000.0).epsilon(0.01));
+  CHECK(frequency(to_pcm16(out), 16000) == doctest::Approx(300.0).epsilon(0.02));
+  CHECK_THROWS_WITH(resample(mono, 0, 16000), doctest::Contains("rates must be positive"));
+}
+
+TEST_CASE("a missing or broken file is reported with its name") {
+  TempDir dir;
+  CHECK_THROWS_WITH(read_sound_file(dir.path / "nothing.wav"), doctest::Contains("nothing.wav"));
+  const fs::path junk = dir.path / "junk.wav";
+  {
+    std::FILE* f = std::fopen(junk.c_str(), "wb");
+    std::fputs("this is not a sound file", f);
+    std::fclose(f);
+  }
+  CHECK_THROWS_WITH(read_sound_file(junk), doctest::Contains("junk.wav"));
+}
+
+TEST_CASE("an ALSA device that does not exist fails with its name") {
+  AlsaOptions options;
+  options.device = "marvin_no_such_device";
+  CHECK_THROWS_WITH(AlsaCapture{options}, doctest::Contains("marvin_no_such_device"));
+  CHECK_THROWS_WITH(AlsaPlayback{options}, doctest::Contains("marvin_no_such_device"));
+}
