@@ -1,0 +1,42 @@
+// Audio augmentations and generated noises for training the keyword spotter (16 kHz mono
+// float in [-1, 1]). All randomness comes from the caller's generator.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <span>
+#include <vector>
+
+namespace marvin::perception::kws {
+
+enum class NoiseColour { white, pink, brown };
+
+// `count` samples of coloured noise with RMS 1 before clipping-free scaling to `rms`.
+std::vector<float> make_noise(NoiseColour colour, std::size_t count, float rms, std::mt19937_64& rng);
+
+float rms(std::span<const float> x);
+
+// Time-stretch by `rate` (> 1 is faster/shorter) keeping the pitch: WSOLA with 32 ms Hann
+// frames, half overlap and a ±8 ms similarity search.
+std::vector<float> time_stretch(std::span<const float> x, double rate);
+
+// Speed and pitch together by `factor` (> 1 faster and higher): resampling.
+std::vector<float> change_speed_and_pitch(std::span<const float> x, double factor);
+
+// Pitch by `semitones` keeping the duration: resample, then time-stretch back.
+std::vector<float> shift_pitch(std::span<const float> x, double semitones);
+
+// Harmonic-percussive separation (Fitzgerald 2010): STFT (512, hop 128), median filters of
+// 17 along time (harmonic) and frequency (percussive), soft masks. Returns the harmonic part
+// scaled by `harmonic_gain` plus the percussive part scaled by `percussive_gain`.
+std::vector<float> hpss_remix(std::span<const float> x, float harmonic_gain, float percussive_gain);
+
+// Adds `noise` (cycled / cropped from a random offset) to `x` at signal-to-noise ratio
+// `snr_db` relative to x's RMS over its active part.
+void add_noise_at_snr(std::vector<float>& x, std::span<const float> noise, float snr_db,
+                      std::mt19937_64& rng);
+
+// Strips leading and trailing parts quieter than `threshold_db` below the peak (20 ms frames).
+std::vector<float> trim_silence(std::span<const float> x, float threshold_db = 40.0f);
+
+}  // namespace marvin::perception::kws

@@ -1,0 +1,180 @@
+// Training: the gradient against finite differences, a tiny run that must learn a separable
+// toy problem, the detection decision, and the augmentations.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "perception/kws/augment.h"
+#include "perception/kws/keyword_spotter.h"
+#include "perception/kws/trainer.h"
+
+namespace kws = marvin::perception::kws;
+
+namespace {
+
+// Class c lights up a band of bins (c*10 .. c*10+9) in the middle frames, on noise.
+kws::TrainingSet toy_set(int per_class, std::uint64_t seed) {
+  kws::TrainingSet s;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<float> g(0.0f, 0.5f);
+  std::uniform_int_distribution<int> shift(-4, 4);
+  for (int i = 0; i < per_class * kws::kClasses; ++i) {
+    const int c = i % kws::kClasses;
+    const int dt = shift(rng);
+    for (int t = 0; t < kws::kInputFrames; ++t) {
+      for (int b = 0; b < kws::kBins; ++b) {
+        float v = g(rng);
+        if (t >= 10 + dt && t < 22 + dt && b / 10 == c) v += 1.5f;
+        s.inputs.push_back(v);
+      }
+    }
+    s.labels.push_back(c);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("backpropagation matches finite differences") {
+  kws::FloatNetwork net = kws::make_initialised_network(3);
+  for (kws::FloatLayer* l : net.layers()) {
+    for (float& w : l->weights) w *= 0.5f;
+    for (std::size_t i = 0; i < l->bias.size(); ++i) l->bias[i] = 0.01f * static_cast<float>(i % 7);
+  }
+  const kws::TrainingSet data = toy_set(1, 5);
+  kws::TrainOptions o;
+  o.threads = 2;
+  kws::Trainer trainer(net, o);
+  const std::vector<std::size_t> batch = {0, 1, 2, 3};
+  kws::FloatNetwork grad;
+  trainer.loss_and_gradient(data, batch, grad);
+  std::mt19937_64 rng(8);
+  auto layers = net.layers();
+  auto glayers = grad.layers();
+  int checked = 0;
+  for (std::size_t li = 0; li < layers.size(); ++li) {
+    for (int k = 0; k < 4; ++k) {
+      const bool bias = (k == 3);
+      std::vector<float>& p = bias ? layers[li]->bias : layers[li]->weights;
+      const std::vector<float>& gp = bias ? glayers[li]->bias : glayers[li]->weights;
+      // Pick a parameter with a gradient big enough to measure.
+      std::size_t j = std::uniform_int_distribution<std::size_t>(0, p.size() - 1)(rng);
+      for (std::size_t tries = 0; tries < p.size() && std::fabs(gp[j]) < 1e-4f; ++tries) j = (j + 1) % p.size();
+      if (std::fabs(gp[j]) < 1e-4f) continue;
+      const float saved = p[j];
+      const float h = 1e-3f;
+      kws::FloatNetwork scratch;
+      p[j] = saved + h;
+      const double up = trainer.loss_and_gradient(data, batch, scratch);
+      p[j] = saved - h;
+      const double down = trainer.loss_and_gradient(data, batch, scratch);
+      p[j] = saved;
+      const double numeric = (up - down) / (2.0 * h);
+      const std::string where = "layer " + std::to_string(li) + (bias ? " bias " : " weight ") + std::to_string(j);
+      INFO(where);
+      CHECK(numeric == doctest::Approx(gp[j]).epsilon(0.05).scale(1e-3));
+      ++checked;
+    }
+  }
+  CHECK(checked >= 12);
+}
+
+TEST_CASE("a tiny training run learns a separable toy problem") {
+  const kws::TrainingSet train = toy_set(24, 1);
+  const kws::TrainingSet test = toy_set(10, 2);
+  kws::FloatNetwork net = kws::make_initialised_network(4);
+  const double before = kws::evaluate_float(net, test).overall;
+  kws::TrainOptions o;
+  o.batch_size = 16;
+  o.threads = 2;
+  kws::Trainer trainer(net, o);
+  std::mt19937_64 rng(6);
+  kws::EpochStats first, last;
+  for (int e = 0; e < 4; ++e) {
+    last = trainer.train_epoch(train, rng, {});
+    if (e == 0) first = last;
+  }
+  const kws::Accuracy after = kws::evaluate_float(net, test);
+  CHECK(before < 0.5);
+  CHECK(last.loss < first.loss);
+  CHECK(after.overall >= 0.95);
+  // And the int8 version of the trained network still gets it.
+  const kws::ActivationScales s = kws::calibrate(net, train, 1.0);
+  CHECK(kws::evaluate_int8(kws::quantize(net, s), test).overall >= 0.95);
+}
+
+TEST_CASE("training is deterministic for a seed") {
+  const kws::TrainingSet train = toy_set(4, 1);
+  auto run = [&] {
+    kws::FloatNetwork net = kws::make_initialised_network(12);
+    kws::TrainOptions o;
+    o.batch_size = 8;
+    kws::Trainer trainer(net, o);
+    std::mt19937_64 rng(2);
+    trainer.train_epoch(train, rng, {});
+    return net.dense.weights;
+  };
+  CHECK(run() == run());
+}
+
+TEST_CASE("detection decision: smoothing, threshold, one detection per keyword") {
+  kws::DetectionDecider d(3, 0.6f, 4);
+  // A keyword seen by four overlapping windows fires once.
+  const float posteriors[] = {0.0f, 0.1f, 0.9f, 0.95f, 0.9f, 0.8f, 0.1f, 0.0f, 0.0f, 0.0f};
+  int fired = 0, fired_at = -1;
+  for (int i = 0; i < 10; ++i) {
+    if (d.push(posteriors[i])) {
+      ++fired;
+      fired_at = i;
+    }
+  }
+  CHECK(fired == 1);
+  CHECK(fired_at == 3);  // (0 + 0.1 + 0.9) / 3 < 0.6 at i = 2; (0.1 + 0.9 + 0.95) / 3 >= 0.6 at i = 3
+  // One lone high window is smoothed away.
+  d.reset();
+  CHECK_FALSE(d.push(0.0f));
+  CHECK_FALSE(d.push(1.0f));
+  CHECK_FALSE(d.push(0.0f));
+  // Two keywords further apart than the refractory period fire twice.
+  d.reset();
+  fired = 0;
+  for (int i = 0; i < 20; ++i) fired += d.push(i % 10 < 4 ? 1.0f : 0.0f) ? 1 : 0;
+  CHECK(fired == 2);
+}
+
+TEST_CASE("augmentations keep their promises") {
+  std::mt19937_64 rng(1);
+  // A 300 Hz tone, 1 s.
+  std::vector<float> tone(16000);
+  for (std::size_t i = 0; i < tone.size(); ++i) tone[i] = 0.5f * std::sin(2.0f * 3.14159265f * 300.0f * static_cast<float>(i) / 16000.0f);
+  auto zero_crossings = [](const std::vector<float>& x) {
+    int n = 0;
+    for (std::size_t i = 1; i < x.size(); ++i) n += (x[i - 1] < 0.0f) != (x[i] < 0.0f) ? 1 : 0;
+    return n;
+  };
+  const std::vector<float> slow = kws::time_stretch(tone, 0.8);  // longer, same pitch
+  CHECK(slow.size() == 20000);
+  CHECK(zero_crossings(slow) / (static_cast<double>(slow.size()) / 16000.0) == doctest::Approx(600.0).epsilon(0.05));
+  const std::vector<float> up = kws::shift_pitch(tone, 12.0);  // an octave up, same length
+  CHECK(static_cast<double>(up.size()) == doctest::Approx(16000.0).epsilon(0.01));
+  CHECK(zero_crossings(up) / (static_cast<double>(up.size()) / 16000.0) == doctest::Approx(1200.0).epsilon(0.05));
+  const std::vector<float> both = kws::change_speed_and_pitch(tone, 1.25);
+  CHECK(static_cast<double>(both.size()) == doctest::Approx(12800.0).epsilon(0.01));
+  // Harmonic + percussive with gains 1 and 1 gives the signal back.
+  const std::vector<float> same = kws::hpss_remix(tone, 1.0f, 1.0f);
+  double err = 0.0;
+  for (std::size_t i = 1000; i < 15000; ++i) err = std::max(err, static_cast<double>(std::fabs(same[i] - tone[i])));
+  CHECK(err < 1e-3);
+  // A steady tone is harmonic: dropping the percussive part keeps most of it.
+  const std::vector<float> harmonic = kws::hpss_remix(tone, 1.0f, 0.0f);
+  CHECK(kws::rms(std::span<const float>(harmonic).subspan(2000, 12000)) > 0.9f * kws::rms(tone));
+  // Noise at a given SNR.
+  std::vector<float> x = tone;
+  const std::vector<float> n = kws::make_noise(kws::NoiseColour::pink, 16000, 0.1f, rng);
+  kws::add_noise_at_snr(x, n, 0.0f, rng);
+  std::vector<float> diff(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) diff[i] = x[i] - tone[i];
+  CHECK(kws::rms(diff) == doctest::Approx(kws::rms(tone)).epsilon(0.05));
+}

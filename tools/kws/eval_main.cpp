@@ -1,0 +1,323 @@
+// marvin-kws-eval: evaluates a keyword-spotting model on speech from voices the training
+// never used (tools/kws/README.md has the commands).
+//
+// 1. Clips: keyword / unknown / silence / noise windows made with the held-out voices
+//    (heldout_voices()), per-class accuracy of the int8 model (and the float model if given).
+// 2. Streaming: a long track of held-out sentences (some not in the training sentences),
+//    pauses and background noise with the keyword inserted at known places, some followed by
+//    a command. The neural detector runs over it once, recording each window's posterior;
+//    the decision (smoothing, threshold, refractory period) is replayed at each threshold.
+//    pocketsphinx keyphrase spotting runs over the same audio at several sensitivities.
+//    A detection counts as a hit when it ends between the keyword's start and 1.25 s after
+//    its end; every other detection (including a second one for the same keyword) is a false
+//    accept.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <future>
+#include <random>
+
+#include "devices/audio/sound_buffer.h"
+#include "devices/audio/sound_file.h"
+#include "perception/kws/augment.h"
+#include "perception/kws/dataset.h"
+#include "perception/kws/keyword_spotter.h"
+#include "perception/kws/neural_wake_word.h"
+#include "perception/pocketsphinx_wake_word.h"
+
+namespace kws = marvin::perception::kws;
+namespace perception = marvin::perception;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Sentences the training never saw (the training ones are used as well).
+const std::vector<std::string>& eval_sentences() {
+  static const std::vector<std::string> s = {
+      "the kettle has boiled so we can make some tea",
+      "my knees hurt a little when it is cold outside",
+      "could you bring me the blue blanket from the bedroom",
+      "the postman came early today with two letters",
+      "I need to call the pharmacy before they close",
+      "the cat is sleeping on the windowsill again",
+      "marvellous weather for a walk along the river",
+      "Marvel comics and a martini by the fireplace",
+      "Kevin will drive us to the hospital on Monday",
+      "she is learning to play the violin at seventy",
+      "remind me to buy carrots potatoes and marmalade",
+      "the carving on the old oak door is beautiful",
+      "how far is it to the nearest supermarket",
+      "switch off the radio in the garden shed",
+      "the movie starts at a quarter to eight",
+      "we should invite Mervyn and Margaret for lunch",
+      "the heating makes a strange noise at night",
+      "turn left at the church and then go straight on",
+      "a glass of orange juice and a slice of toast",
+      "the grandchildren are coming for the holidays"};
+  return s;
+}
+
+struct Track {
+  std::vector<float> audio;
+  std::vector<std::pair<std::int64_t, std::int64_t>> keywords;  // [begin, end) samples
+};
+
+float db(float v) { return std::pow(10.0f, v / 20.0f); }
+
+void mix_in(std::vector<float>& dst, std::size_t at, const std::vector<float>& src, float peak_db) {
+  float peak = 0.0f;
+  for (float v : src) peak = std::max(peak, std::fabs(v));
+  const float g = db(peak_db) / std::max(peak, 1e-6f);
+  for (std::size_t i = 0; i < src.size() && at + i < dst.size(); ++i) dst[at + i] += g * src[i];
+}
+
+Track build_track(double minutes, int keywords, const std::string& keyword,
+                  const std::vector<std::string>& voices,
+                  const std::vector<std::vector<float>>& noise_pool, std::mt19937_64& rng) {
+  Track t;
+  const std::size_t total = static_cast<std::size_t>(minutes * 60.0 * 16000.0);
+  t.audio.assign(total, 0.0f);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::uniform_int_distribution<std::size_t> pick_voice(0, voices.size() - 1);
+  // Continuous background: the noise pool's streams one after another at -50..-35 dBFS.
+  for (std::size_t pos = 0; pos < total;) {
+    const auto& n = noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+    const float level = db(-50.0f + 15.0f * u(rng)) / std::max(kws::rms(n), 1e-6f);
+    for (std::size_t i = 0; i < n.size() && pos < total; ++i) t.audio[pos++] += level * n[i];
+  }
+  std::vector<std::string> sents = kws::sentences();
+  sents.insert(sents.end(), eval_sentences().begin(), eval_sentences().end());
+  std::uniform_int_distribution<std::size_t> pick_sent(0, sents.size() - 1);
+  const std::string cap = static_cast<char>(std::toupper(static_cast<unsigned char>(keyword[0]))) +
+                          keyword.substr(1);
+  const double spacing = static_cast<double>(total) / std::max(1, keywords);
+  int placed = 0;
+  std::size_t pos = 8000;
+  while (pos < total) {
+    const double next_kw = (placed + 0.3 + 0.4 * u(rng)) * spacing;
+    const int rate = 120 + static_cast<int>(100 * u(rng));
+    const int pitch = 25 + static_cast<int>(50 * u(rng));
+    const std::string& voice = voices[pick_voice(rng)];
+    const float level = -18.0f + 14.0f * u(rng);
+    if (placed < keywords && static_cast<double>(pos) >= next_kw) {
+      const std::vector<float> kw = kws::synthesize(u(rng) < 0.5f ? cap : keyword, voice, rate, pitch);
+      if (pos + kw.size() >= total) break;
+      mix_in(t.audio, pos, kw, level);
+      t.keywords.emplace_back(pos, pos + kw.size());
+      pos += kw.size() + static_cast<std::size_t>(2400 + 4000 * u(rng));
+      ++placed;
+      if (u(rng) < 0.6f) {  // "Marvin, <command>"
+        const std::vector<float> cmd = kws::synthesize(sents[pick_sent(rng)], voice, rate, pitch);
+        mix_in(t.audio, pos, cmd, level);
+        pos += cmd.size();
+      }
+    } else {
+      const std::vector<float> s = kws::synthesize(sents[pick_sent(rng)], voice, rate, pitch);
+      mix_in(t.audio, pos, s, level);
+      pos += s.size();
+    }
+    pos += static_cast<std::size_t>(4800 + 40000 * u(rng));
+  }
+  for (float& v : t.audio) v = std::clamp(v, -1.0f, 1.0f);
+  return t;
+}
+
+struct Score {
+  int hits = 0, misses = 0, false_accepts = 0;
+  double miss_rate() const { return hits + misses > 0 ? static_cast<double>(misses) / (hits + misses) : 0.0; }
+};
+
+Score score(const std::vector<std::int64_t>& detection_ends, const Track& track) {
+  Score s;
+  std::vector<bool> found(track.keywords.size(), false);
+  for (std::int64_t e : detection_ends) {
+    bool matched = false;
+    for (std::size_t k = 0; k < track.keywords.size(); ++k) {
+      const auto [b, end] = track.keywords[k];
+      if (e >= b && e <= end + 20000 && !found[k]) {
+        found[k] = true;
+        matched = true;
+        break;
+      }
+    }
+    if (!matched) ++s.false_accepts;
+  }
+  for (bool f : found) (f ? s.hits : s.misses)++;
+  return s;
+}
+
+void print_accuracy(const char* name, const kws::Accuracy& a) {
+  std::printf("  %-6s overall %6.2f%%  keyword %6.2f%%  unknown %6.2f%%  silence %6.2f%%  noise %6.2f%%\n",
+              name, 100.0 * a.overall, 100.0 * a.per_class(0), 100.0 * a.per_class(1),
+              100.0 * a.per_class(2), 100.0 * a.per_class(3));
+}
+
+struct Trace {
+  std::vector<float> posteriors;
+  std::vector<std::int64_t> end_frames;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Evaluate Marvin's keyword spotter on held-out voices, against pocketsphinx"};
+  std::string model_path = kws::default_model_path().string(), float_model_path, save_track;
+  std::uint64_t seed = 1001;
+  int clips = 200, keywords = 120, threads = 2;
+  double minutes = 30.0;
+  std::vector<float> thresholds = {0.3f, 0.4f, 0.5f, 0.6f, 0.7f, 0.8f, 0.9f, 0.95f};
+  std::vector<float> ps_sensitivities = {0.3f, 0.5f, 0.7f};
+  bool no_pocketsphinx = false;
+  int smoothing = 0;
+  float refractory_s = -1.0f;
+  app.add_option("--model", model_path, "int8 model")->capture_default_str();
+  app.add_option("--float-model", float_model_path, "float model, for float vs int8 accuracy");
+  app.add_option("--seed", seed)->capture_default_str();
+  app.add_option("--clips", clips, "held-out keyword clips (other classes in proportion)")->capture_default_str();
+  app.add_option("--minutes", minutes, "length of the streaming track")->capture_default_str();
+  app.add_option("--keywords", keywords, "keywords inside the streaming track")->capture_default_str();
+  app.add_option("--thresholds", thresholds, "neural thresholds to report")->capture_default_str();
+  app.add_option("--ps-sensitivities", ps_sensitivities, "pocketsphinx sensitivities")->capture_default_str();
+  app.add_flag("--no-pocketsphinx", no_pocketsphinx);
+  app.add_option("--smoothing", smoothing, "override the model's smoothing windows");
+  app.add_option("--refractory", refractory_s, "override the model's refractory period (s)");
+  app.add_option("--threads", threads)->capture_default_str();
+  app.add_option("--save-track", save_track, "write the streaming track to this WAV");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    const auto start = Clock::now();
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    kws::KwsModel model = kws::load_model(model_path);
+    if (smoothing > 0) model.detection.smoothing_windows = smoothing;
+    if (refractory_s >= 0.0f) model.detection.refractory_seconds = refractory_s;
+    const std::vector<std::string> voices = kws::heldout_voices();
+    std::printf("model %s: keyword \"%s\", threshold %.2f, smoothing %d windows, refractory %.2f s\n",
+                model_path.c_str(), model.keyword.c_str(), static_cast<double>(model.detection.threshold),
+                model.detection.smoothing_windows, static_cast<double>(model.detection.refractory_seconds));
+    std::printf("held-out voices: %zu (none used in training)\n", voices.size());
+
+    // 1. Clips.
+    kws::DatasetOptions dopt;
+    dopt.seed = seed;
+    dopt.keyword = model.keyword;
+    dopt.voices = voices;
+    dopt.keyword_clips = clips;
+    dopt.unknown_clips = clips;
+    dopt.silence_clips = clips / 4;
+    dopt.noise_clips = clips / 4;
+    dopt.augmented_copies = 1;
+    kws::SplitClips split = kws::synthesize_dataset(dopt);
+    std::vector<kws::AudioClip> all = std::move(split.train);
+    all.insert(all.end(), split.test.begin(), split.test.end());
+    all.insert(all.end(), split.eval.begin(), split.eval.end());
+    kws::TrainingSet set = kws::clips_to_inputs(all, threads);
+    kws::normalise(set, model.normalisation);
+    std::printf("\nper-class accuracy on %zu held-out clips (%.0f s):\n", set.size(), elapsed());
+    const kws::Accuracy ia = kws::evaluate_int8(model.int8_network(), set);
+    if (!float_model_path.empty()) {
+      const kws::KwsModel fm = kws::load_model(float_model_path);
+      const kws::Accuracy fa = kws::evaluate_float(fm.network, set);
+      print_accuracy("float", fa);
+      print_accuracy("int8", ia);
+      std::printf("  int8 - float: %+.2f points\n", 100.0 * (ia.overall - fa.overall));
+    } else {
+      print_accuracy("int8", ia);
+    }
+
+    // 2. Streaming.
+    std::mt19937_64 rng(seed * 7919 + 17);
+    const Track track = build_track(minutes, keywords, model.keyword, voices, split.noise_pool, rng);
+    const std::vector<std::int16_t> pcm = marvin::audio::to_pcm16(track.audio);
+    const double hours = static_cast<double>(pcm.size()) / 16000.0 / 3600.0;
+    std::printf("\nstreaming track: %.1f min, %zu keywords (%.0f s)\n", hours * 60.0, track.keywords.size(),
+                elapsed());
+    if (!save_track.empty()) marvin::audio::write_speech_file(save_track, pcm);
+
+    // pocketsphinx in the background while the neural detector runs.
+    std::vector<std::future<std::vector<std::int64_t>>> ps_runs;
+    if (!no_pocketsphinx) {
+      for (float s : ps_sensitivities) {
+        ps_runs.push_back(std::async(std::launch::async, [&pcm, s] {
+          perception::PocketsphinxWakeWordOptions o;
+          o.sensitivity = s;
+          perception::PocketsphinxWakeWord ps(o);
+          std::vector<perception::WakeWordDetection> det;
+          for (std::size_t i = 0; i < pcm.size(); i += 1600) {
+            ps.process(std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), det);
+          }
+          std::vector<std::int64_t> ends;
+          for (const auto& d : det) ends.push_back(d.end_sample);
+          return ends;
+        }));
+      }
+    }
+
+    kws::NeuralWakeWord detector(model, 0.5f, kws::Precision::int8);
+    Trace trace;
+    detector.spotter().set_window_observer(
+        [](void* ctx, std::int64_t end_frame, float posterior, float) {
+          auto* t = static_cast<Trace*>(ctx);
+          t->posteriors.push_back(posterior);
+          t->end_frames.push_back(end_frame);
+        },
+        &trace);
+    std::vector<perception::WakeWordDetection> ignored;
+    const auto neural_start = Clock::now();
+    for (std::size_t i = 0; i < pcm.size(); i += 1600) {
+      detector.process(std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), ignored);
+    }
+    const double neural_s = std::chrono::duration<double>(Clock::now() - neural_start).count();
+    std::printf("neural int8: %zu windows in %.1f s wall clock\n", trace.posteriors.size(), neural_s);
+
+    std::printf("\n%-28s %9s %8s %6s %8s\n", "detector", "setting", "miss", "FA", "FA/h");
+    const int refractory = kws::refractory_windows(model);
+    struct Row { double miss, fah; float setting; };
+    std::vector<Row> neural_rows, ps_rows;
+    for (float th : thresholds) {
+      kws::DetectionDecider decider(model.detection.smoothing_windows, th, refractory);
+      std::vector<std::int64_t> ends;
+      for (std::size_t w = 0; w < trace.posteriors.size(); ++w) {
+        if (decider.push(trace.posteriors[w])) ends.push_back((trace.end_frames[w] - 1) * 160 + 400);
+      }
+      const Score s = score(ends, track);
+      std::printf("%-28s %9.2f %7.2f%% %6d %8.2f\n", "neural cnn-trad-fpool3 int8", static_cast<double>(th),
+                  100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+      neural_rows.push_back({s.miss_rate(), s.false_accepts / hours, th});
+    }
+    for (std::size_t i = 0; i < ps_runs.size(); ++i) {
+      const Score s = score(ps_runs[i].get(), track);
+      std::printf("%-28s %9.2f %7.2f%% %6d %8.2f\n", "pocketsphinx keyphrase", static_cast<double>(ps_sensitivities[i]),
+                  100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+      ps_rows.push_back({s.miss_rate(), s.false_accepts / hours, ps_sensitivities[i]});
+    }
+    auto best_under = [](const std::vector<Row>& rows, double fah_limit) {
+      const Row* best = nullptr;
+      for (const Row& r : rows) {
+        if (r.fah < fah_limit && (!best || r.miss < best->miss)) best = &r;
+      }
+      return best;
+    };
+    std::printf("\noperating point (lowest miss rate with under 1 false accept per hour):\n");
+    if (const Row* r = best_under(neural_rows, 1.0)) {
+      std::printf("  neural        threshold %.2f: miss %.2f%%, %.2f FA/h\n", static_cast<double>(r->setting), 100.0 * r->miss, r->fah);
+    } else {
+      std::printf("  neural        none of the thresholds stays under 1 FA/h\n");
+    }
+    if (!ps_rows.empty()) {
+      if (const Row* r = best_under(ps_rows, 1.0)) {
+        std::printf("  pocketsphinx  sensitivity %.2f: miss %.2f%%, %.2f FA/h\n", static_cast<double>(r->setting), 100.0 * r->miss, r->fah);
+      } else {
+        std::printf("  pocketsphinx  none of the sensitivities stays under 1 FA/h\n");
+      }
+    }
+    std::printf("(%.1f h of audio: one false accept is %.2f FA/h; total %.0f s)\n", hours, 1.0 / hours, elapsed());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "marvin-kws-eval: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
