@@ -8,8 +8,8 @@
 namespace marvin::app {
 namespace {
 
-std::map<std::string, CommandInstaller>& installers() {
-  static std::map<std::string, CommandInstaller> all;
+std::multimap<std::string, CommandInstaller>& installers() {
+  static std::multimap<std::string, CommandInstaller> all;  // a repeated name must not drop a group
   return all;
 }
 

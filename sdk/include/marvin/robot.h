@@ -44,11 +44,11 @@ typedef enum marvin_direction {
   MARVIN_TURN_RIGHT = 3
 } marvin_direction;
 
-/* One sonar reading: where the obstacle is, seen from the robot's head. */
+/* One sonar reading. The sonar sweeps in the vertical plane of the robot's heading. */
 typedef struct marvin_scan_point {
-  double angle_deg;   /* 0..120, 60 is straight ahead */
-  double distance_m;  /* 0..2.5; 2.5 means nothing closer */
-  int64_t time_ms;    /* host clock, milliseconds since the Unix epoch */
+  double angle_deg;   /* 0 straight ahead, 90 straight up, 120 up and backwards */
+  double distance_m;  /* 0..2.5 (slant distance); 2.5 means nothing closer */
+  int64_t time_ms;    /* when it was read: host clock, milliseconds since the Unix epoch */
 } marvin_scan_point;
 
 typedef enum marvin_log_level {
@@ -83,9 +83,11 @@ typedef struct marvin_robot_api {
   marvin_status (*move)(marvin_host* host, marvin_direction direction, uint8_t speed,
                         uint32_t duration_ms);
   marvin_status (*stop)(marvin_host* host);
-  /* Tilts the head to `degrees` (-30 looks down, 0 level, +30 up). */
+  /* Tilts the head to `degrees` above level (-60 looks down, 0 level, +60 up);
+   * MARVIN_ERR_INVALID outside -60..60. */
   marvin_status (*tilt_head)(marvin_host* host, int32_t degrees);
-  /* Copies the latest obstacle scan into `points` (at most `capacity`) and sets `*count`. */
+  /* Copies the latest obstacle scan, ordered by angle, into `points` (at most `capacity`)
+   * and sets `*count` to the number copied; MARVIN_ERR_TRUNCATED if there were more. */
   marvin_status (*obstacle_scan)(marvin_host* host, marvin_scan_point* points, size_t capacity,
                                  size_t* count);
 

@@ -2,11 +2,12 @@
  *
  * A native skill is a shared library exporting one C function,
  *
- *     MARVIN_EXPORT const marvin_skill_descriptor* marvin_skill_descriptor(void);
+ *     MARVIN_EXPORT const marvin_skill_descriptor* marvin_get_skill_descriptor(void);
  *
- * which returns a pointer to static data. The host reads the skill's skill.json first,
- * dlopen()s the library, calls marvin_skill_descriptor() and checks abi_major/abi_minor
- * before calling anything else. C++ skills use the macro of marvin/skill.hpp instead of
+ * which returns a pointer to static data. (The function cannot share the name of the
+ * marvin_skill_descriptor type: C and C++ both reject that.) The host reads the skill's
+ * skill.json first, dlopen()s the library, calls marvin_get_skill_descriptor() and checks
+ * abi_major/abi_minor before calling anything else. C++ skills use the macro of marvin/skill.hpp instead of
  * writing this by hand.
  *
  * Life cycle: create() once per instance; handle() once per recognised request, never on
@@ -46,7 +47,7 @@ typedef struct marvin_skill_descriptor {
 } marvin_skill_descriptor;
 
 typedef const marvin_skill_descriptor* (*marvin_skill_descriptor_fn)(void);
-#define MARVIN_SKILL_DESCRIPTOR_SYMBOL "marvin_skill_descriptor"
+#define MARVIN_SKILL_DESCRIPTOR_SYMBOL "marvin_get_skill_descriptor"
 
 #ifdef __cplusplus
 }

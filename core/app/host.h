@@ -1,0 +1,93 @@
+// The host wiring: the skill registry, the skill manager and the host loop, with the
+// Robot API served from personal data and a body. `marvin run --sim` uses the console
+// body below and in-memory personal data (until the SQLite store is wired in).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "devices/body.h"
+#include "skills/host_loop.h"
+#include "skills/in_memory_personal_data.h"
+#include "skills/manager.h"
+#include "skills/registry.h"
+
+namespace marvin::app {
+
+// Serialises lines written by several threads (the loop, a long task, the body).
+class Console {
+ public:
+  explicit Console(std::function<void(std::string_view)> write_line);
+  void line(std::string_view text);
+
+ private:
+  std::mutex mutex_;
+  std::function<void(std::string_view)> write_line_;
+};
+
+// A body that shows what it would do: "[light: executing]", "[move forward, speed 120,
+// 1500 ms]", "[stop]". Repeated identical light changes are shown once.
+class ConsoleBody : public devices::Body {
+ public:
+  explicit ConsoleBody(Console& console) : console_(console) {}
+  void move(devices::Direction direction, std::uint8_t speed,
+            std::chrono::milliseconds duration) override;
+  void stop() override;
+  void tilt_head(int degrees) override;
+  std::vector<devices::ScanPoint> latest_scan() override;
+  void set_light(devices::Light light) override;
+
+ private:
+  Console& console_;
+  std::mutex mutex_;
+  std::optional<devices::Light> light_;
+};
+
+struct HostOptions {
+  // Skills directories, loaded in order. The build's built-in skills come first unless
+  // `builtin_skills` is false.
+  std::vector<std::filesystem::path> skills_dirs;
+  bool builtin_skills = true;
+  std::string time_zone;                     // "" = the system's zone (UTC if unknown)
+  std::optional<std::int64_t> fixed_now_ms;  // a stopped clock, for demos and tests
+};
+
+// Where this build put its built-in skills (<build>/skills).
+std::filesystem::path builtin_skills_dir();
+// The system's IANA time zone, or "UTC".
+std::string system_time_zone();
+
+class Host {
+ public:
+  // Wires everything; `console` receives the transcript ("Marvin: ..." and body lines).
+  Host(HostOptions options, std::function<void(std::string_view)> write_line);
+  ~Host();
+
+  // Adds a runtime (e.g. Lua) before load().
+  void add_runtime(std::unique_ptr<skills::SkillRuntime> runtime);
+  // Loads every skills directory. Errors are in registry().errors().
+  void load();
+
+  skills::Registry& registry() { return *registry_; }
+  skills::Manager& manager() { return *manager_; }
+  skills::HostLoop& loop() { return *loop_; }
+  devices::Body& body() { return body_; }
+
+ private:
+  HostOptions options_;
+  Console console_;
+  ConsoleBody body_;
+  skills::InMemoryPersonalData data_;
+  skills::HostServices services_;
+  std::unique_ptr<skills::HostLoop> loop_;
+  std::unique_ptr<skills::Registry> registry_;
+  std::unique_ptr<skills::Manager> manager_;
+};
+
+}  // namespace marvin::app

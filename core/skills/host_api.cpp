@@ -1,0 +1,510 @@
+#include "skills/host_api.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <exception>
+
+#include "common/log.h"
+#include "skills/api_json.h"
+
+namespace marvin::skills {
+namespace {
+
+using nlohmann::json;
+
+// Runs one Robot API call for a context: records the error sentence on failure, and turns
+// any exception into a status so nothing escapes across the C ABI.
+template <class F>
+marvin_status guarded(marvin_host* host, F&& body) {
+  if (!host) return MARVIN_ERR_INVALID;
+  SkillContext& c = SkillContext::from(host);
+  c.last_error.clear();
+  try {
+    return body(c);
+  } catch (const std::exception& e) {
+    c.last_error = e.what();
+    return MARVIN_ERR_INTERNAL;
+  } catch (...) {
+    c.last_error = "unknown error in the host";
+    return MARVIN_ERR_INTERNAL;
+  }
+}
+
+marvin_status fail(SkillContext& c, marvin_status status, std::string sentence) {
+  c.last_error = std::move(sentence);
+  return status;
+}
+
+marvin_status need(SkillContext& c, const char* permission) {
+  if (c.has_permission(permission)) return MARVIN_OK;
+  return fail(c, MARVIN_ERR_PERMISSION,
+              std::string("permission '") + permission + "' is not granted to skill '" +
+                  c.skill_id() + "'");
+}
+
+marvin_status need_text(SkillContext& c, const char* text, const char* what) {
+  if (text) return MARVIN_OK;
+  return fail(c, MARVIN_ERR_INVALID, std::string(what) + " is NULL");
+}
+
+marvin_status need_out(SkillContext& c, marvin_text_out* out) {
+  if (out) return MARVIN_OK;
+  return fail(c, MARVIN_ERR_INVALID, "the output buffer is NULL");
+}
+
+template <class Service>
+marvin_status need_service(SkillContext& c, Service* service, const char* what) {
+  if (service) return MARVIN_OK;
+  return fail(c, MARVIN_ERR_UNAVAILABLE, std::string("this robot has no ") + what);
+}
+
+#define MARVIN_TRY(expr)                                       \
+  do {                                                         \
+    if (marvin_status s_ = (expr); s_ != MARVIN_OK) return s_; \
+  } while (0)
+
+json parse_json_arg(SkillContext& c, const char* text, const char* what, marvin_status* status) {
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    c.last_error = std::string(what) + " is not valid JSON at byte " + std::to_string(e.byte);
+    *status = MARVIN_ERR_INVALID;
+    return json();
+  }
+}
+
+const char* api_last_error(marvin_host* host) {
+  if (!host) return "no skill context (host is NULL)";
+  return SkillContext::from(host).last_error.c_str();
+}
+
+marvin_status api_say(marvin_host* host, const char* text) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, text, "text"));
+    MARVIN_TRY(need_service(c, c.services().user, "speaker"));
+    c.services().user->say(text);
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_ask(marvin_host* host, const char* question, marvin_text_out* answer) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, question, "question"));
+    MARVIN_TRY(need_out(c, answer));
+    MARVIN_TRY(need_service(c, c.services().user, "speaker"));
+    if (c.cancelled()) return fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
+    std::optional<std::string> reply = c.services().user->ask(question);
+    if (!reply) return fail(c, MARVIN_ERR_CANCELLED, "the user did not answer (stopped)");
+    marvin_status s = write_text(answer, *reply);
+    if (s != MARVIN_OK) c.last_error = "the answer did not fit the buffer";
+    return s;
+  });
+}
+
+marvin_status api_set_light(marvin_host* host, marvin_light light) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "light"));
+    MARVIN_TRY(need_service(c, c.services().body, "body"));
+    devices::Light l;
+    switch (light) {
+      case MARVIN_LIGHT_OFF:
+        l = devices::Light::kOff;
+        break;
+      case MARVIN_LIGHT_AWAITING:
+        l = devices::Light::kAwaiting;
+        break;
+      case MARVIN_LIGHT_LISTENING:
+        l = devices::Light::kListening;
+        break;
+      case MARVIN_LIGHT_EXECUTING:
+        l = devices::Light::kExecuting;
+        break;
+      default:
+        return fail(c, MARVIN_ERR_INVALID,
+                    "unknown light " + std::to_string(static_cast<int>(light)));
+    }
+    c.services().body->set_light(l);
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_move(marvin_host* host, marvin_direction direction, uint8_t speed,
+                       uint32_t duration_ms) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "motion"));
+    MARVIN_TRY(need_service(c, c.services().body, "body"));
+    devices::Direction d;
+    switch (direction) {
+      case MARVIN_FORWARD:
+        d = devices::Direction::kForward;
+        break;
+      case MARVIN_BACKWARD:
+        d = devices::Direction::kBackward;
+        break;
+      case MARVIN_TURN_LEFT:
+        d = devices::Direction::kLeft;
+        break;
+      case MARVIN_TURN_RIGHT:
+        d = devices::Direction::kRight;
+        break;
+      default:
+        return fail(c, MARVIN_ERR_INVALID,
+                    "unknown direction " + std::to_string(static_cast<int>(direction)));
+    }
+    if (duration_ms > 10 * 60 * 1000) {
+      return fail(c, MARVIN_ERR_INVALID,
+                  "a move lasts at most 600000 ms, got " + std::to_string(duration_ms));
+    }
+    if (c.cancelled()) return fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
+    // Body::move starts the motion (the base times it and stops before obstacles); the
+    // call returns when it has run its course, or at once with a stop on "stop".
+    c.services().body->move(d, speed, std::chrono::milliseconds{duration_ms});
+    if (c.services().wait_for_motion ? c.wait_cancelled_for(duration_ms) : c.cancelled()) {
+      c.services().body->stop();
+      return fail(c, MARVIN_ERR_CANCELLED, "the motion was stopped");
+    }
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_stop(marvin_host* host) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "motion"));
+    MARVIN_TRY(need_service(c, c.services().body, "body"));
+    c.services().body->stop();
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_tilt_head(marvin_host* host, int32_t degrees) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "motion"));
+    MARVIN_TRY(need_service(c, c.services().body, "body"));
+    if (degrees < -60 || degrees > 60) {
+      return fail(c, MARVIN_ERR_INVALID,
+                  "the head tilts from -60 to 60 degrees, got " + std::to_string(degrees));
+    }
+    c.services().body->tilt_head(degrees);
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_obstacle_scan(marvin_host* host, marvin_scan_point* points, size_t capacity,
+                                size_t* count) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "sensors"));
+    MARVIN_TRY(need_service(c, c.services().body, "body"));
+    if (!count || (!points && capacity > 0)) {
+      return fail(c, MARVIN_ERR_INVALID, "points or count is NULL");
+    }
+    std::vector<devices::ScanPoint> scan = c.services().body->latest_scan();
+    *count = std::min(scan.size(), capacity);
+    // The body stamps points with the steady clock; skills get the wall clock.
+    std::int64_t steady_now = std::chrono::duration_cast<std::chrono::milliseconds>(
+                                  std::chrono::steady_clock::now().time_since_epoch())
+                                  .count();
+    std::int64_t wall_now = c.services().now_ms ? c.services().now_ms() : system_now_ms();
+    for (std::size_t i = 0; i < *count; ++i) {
+      points[i] = marvin_scan_point{scan[i].angle_deg, scan[i].distance_m,
+                                    wall_now - (steady_now - scan[i].time_ms)};
+    }
+    if (scan.size() > capacity) {
+      return fail(c, MARVIN_ERR_TRUNCATED,
+                  "the scan has " + std::to_string(scan.size()) +
+                      " points, more than the capacity " + std::to_string(capacity));
+    }
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_now(marvin_host* host, int64_t* unix_ms) {
+  return guarded(host, [&](SkillContext& c) {
+    if (!unix_ms) return fail(c, MARVIN_ERR_INVALID, "unix_ms is NULL");
+    *unix_ms = c.services().now_ms ? c.services().now_ms() : system_now_ms();
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_time_zone(marvin_host* host, marvin_text_out* name) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_out(c, name));
+    return write_text(name, c.services().time_zone);
+  });
+}
+
+marvin_status write_json(SkillContext& c, marvin_text_out* out, const json& value) {
+  marvin_status s = write_text(out, value.dump());
+  if (s == MARVIN_ERR_TRUNCATED) c.last_error = "the result did not fit the buffer";
+  return s;
+}
+
+marvin_status api_schedule_add(marvin_host* host, const char* reminder_json,
+                               marvin_text_out* created_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "schedule"));
+    MARVIN_TRY(need_text(c, reminder_json, "reminder_json"));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    marvin_status status = MARVIN_OK;
+    json input = parse_json_arg(c, reminder_json, "reminder_json", &status);
+    if (status != MARVIN_OK) return status;
+    data::Reminder reminder;
+    try {
+      reminder = reminder_from_json(input, c.services().time_zone);
+    } catch (const std::exception& e) {
+      return fail(c, MARVIN_ERR_INVALID, std::string("reminder_json: ") + e.what());
+    }
+    reminder.created_by = c.skill_id();
+    reminder.id = c.services().data->add_reminder(reminder);
+    return created_json ? write_json(c, created_json, reminder_to_json(reminder)) : MARVIN_OK;
+  });
+}
+
+marvin_status api_schedule_list(marvin_host* host, int64_t from_unix_ms, int64_t to_unix_ms,
+                                marvin_text_out* reminders_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "schedule"));
+    MARVIN_TRY(need_out(c, reminders_json));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    if (to_unix_ms < from_unix_ms) {
+      return fail(c, MARVIN_ERR_INVALID, "to_unix_ms is before from_unix_ms");
+    }
+    json list = json::array();
+    for (const data::Reminder& r : c.services().data->reminders_between(from_unix_ms, to_unix_ms)) {
+      list.push_back(reminder_to_json(r));
+    }
+    return write_json(c, reminders_json, list);
+  });
+}
+
+marvin_status api_schedule_remove(marvin_host* host, int64_t reminder_id) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "schedule"));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    if (!c.services().data->remove_reminder(reminder_id)) {
+      return fail(c, MARVIN_ERR_NOT_FOUND,
+                  "there is no active reminder with id " + std::to_string(reminder_id));
+    }
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_contacts_find(marvin_host* host, const char* name,
+                                marvin_text_out* contacts_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "contacts"));
+    MARVIN_TRY(need_text(c, name, "name"));
+    MARVIN_TRY(need_out(c, contacts_json));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    json list = json::array();
+    for (const data::Contact& contact : c.services().data->find_contacts(name)) {
+      list.push_back(contact_to_json(contact));
+    }
+    return write_json(c, contacts_json, list);
+  });
+}
+
+marvin_status api_contacts_add(marvin_host* host, const char* contact_json,
+                               marvin_text_out* created_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "contacts"));
+    MARVIN_TRY(need_text(c, contact_json, "contact_json"));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    marvin_status status = MARVIN_OK;
+    json input = parse_json_arg(c, contact_json, "contact_json", &status);
+    if (status != MARVIN_OK) return status;
+    data::Contact contact;
+    try {
+      contact = contact_from_json(input);
+    } catch (const std::exception& e) {
+      return fail(c, MARVIN_ERR_INVALID, std::string("contact_json: ") + e.what());
+    }
+    contact.id = c.services().data->add_contact(contact);
+    return created_json ? write_json(c, created_json, contact_to_json(contact)) : MARVIN_OK;
+  });
+}
+
+marvin_status api_people_list(marvin_host* host, marvin_text_out* people_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "contacts"));
+    MARVIN_TRY(need_out(c, people_json));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    json list = json::array();
+    for (const data::Person& p : c.services().data->list_people())
+      list.push_back(person_to_json(p));
+    return write_json(c, people_json, list);
+  });
+}
+
+marvin_status api_storage_get(marvin_host* host, const char* key, marvin_text_out* value) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "storage"));
+    MARVIN_TRY(need_text(c, key, "key"));
+    MARVIN_TRY(need_out(c, value));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    std::optional<std::string> stored = c.services().data->storage_get(c.skill_id(), key);
+    if (!stored)
+      return fail(c, MARVIN_ERR_NOT_FOUND, std::string("no value stored under \"") + key + "\"");
+    marvin_status s = write_text(value, *stored);
+    if (s == MARVIN_ERR_TRUNCATED) c.last_error = "the value did not fit the buffer";
+    return s;
+  });
+}
+
+marvin_status api_storage_set(marvin_host* host, const char* key, const char* value,
+                              size_t value_length) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "storage"));
+    MARVIN_TRY(need_text(c, key, "key"));
+    if (!value && value_length > 0) return fail(c, MARVIN_ERR_INVALID, "value is NULL");
+    if (key[0] == '\0') return fail(c, MARVIN_ERR_INVALID, "the key is empty");
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    c.services().data->storage_set(c.skill_id(), key,
+                                   std::string_view(value ? value : "", value_length));
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_storage_remove(marvin_host* host, const char* key) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "storage"));
+    MARVIN_TRY(need_text(c, key, "key"));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    if (!c.services().data->storage_remove(c.skill_id(), key)) {
+      return fail(c, MARVIN_ERR_NOT_FOUND, std::string("no value stored under \"") + key + "\"");
+    }
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_log(marvin_host* host, marvin_log_level level, const char* message) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, message, "message"));
+    LogLevel l = LogLevel::kInfo;
+    switch (level) {
+      case MARVIN_LOG_DEBUG:
+        l = LogLevel::kDebug;
+        break;
+      case MARVIN_LOG_INFO:
+        l = LogLevel::kInfo;
+        break;
+      case MARVIN_LOG_WARNING:
+        l = LogLevel::kWarning;
+        break;
+      case MARVIN_LOG_ERROR:
+        l = LogLevel::kError;
+        break;
+      default:
+        return fail(c, MARVIN_ERR_INVALID, "unknown log level");
+    }
+    marvin::log(l, "skill:" + c.skill_id(), message);
+    return MARVIN_OK;
+  });
+}
+
+int api_is_cancelled(marvin_host* host) {
+  return host && SkillContext::from(host).cancelled() ? 1 : 0;
+}
+
+marvin_status unavailable(SkillContext& c, const char* permission, const char* what) {
+  MARVIN_TRY(need(c, permission));
+  return fail(c, MARVIN_ERR_UNAVAILABLE, std::string(what) + " is not available on this robot yet");
+}
+
+marvin_status api_vision_find_object(marvin_host* host, const char*, marvin_text_out*) {
+  return guarded(host, [&](SkillContext& c) { return unavailable(c, "vision", "vision"); });
+}
+marvin_status api_vision_who_is_there(marvin_host* host, marvin_text_out*) {
+  return guarded(host, [&](SkillContext& c) { return unavailable(c, "vision", "vision"); });
+}
+marvin_status api_phone_call(marvin_host* host, const char*) {
+  return guarded(host, [&](SkillContext& c) { return unavailable(c, "phone", "the phone"); });
+}
+marvin_status api_smarthome_set(marvin_host* host, const char*, const char*) {
+  return guarded(
+      host, [&](SkillContext& c) { return unavailable(c, "smarthome", "smart home control"); });
+}
+
+}  // namespace
+
+std::int64_t system_now_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+SkillContext::SkillContext(std::string skill_id, std::vector<std::string> permissions,
+                           HostServices& services)
+    : skill_id_(std::move(skill_id)), permissions_(std::move(permissions)), services_(services) {}
+
+bool SkillContext::has_permission(const std::string& permission) const {
+  return permission == "speech" ||
+         std::find(permissions_.begin(), permissions_.end(), permission) != permissions_.end();
+}
+
+void SkillContext::begin_request() {
+  std::lock_guard lock(mutex_);
+  cancelled_.store(false);
+  last_error.clear();
+}
+
+void SkillContext::cancel() {
+  {
+    std::lock_guard lock(mutex_);
+    cancelled_.store(true);
+  }
+  wake_.notify_all();
+}
+
+bool SkillContext::wait_cancelled_for(std::uint32_t ms) {
+  std::unique_lock lock(mutex_);
+  return wake_.wait_for(lock, std::chrono::milliseconds{ms}, [&] { return cancelled_.load(); });
+}
+
+marvin_status write_text(marvin_text_out* out, std::string_view text) {
+  if (!out) return MARVIN_ERR_INVALID;
+  out->length = text.size();
+  if (!out->data || out->capacity == 0) return MARVIN_ERR_TRUNCATED;
+  std::size_t n = std::min(text.size(), out->capacity - 1);
+  std::memcpy(out->data, text.data(), n);
+  out->data[n] = '\0';
+  return n == text.size() ? MARVIN_OK : MARVIN_ERR_TRUNCATED;
+}
+
+const marvin_robot_api* host_robot_api() {
+  static const marvin_robot_api api = [] {
+    marvin_robot_api a{};
+    a.struct_size = sizeof(marvin_robot_api);
+    a.major = MARVIN_ROBOT_API_MAJOR;
+    a.minor = MARVIN_ROBOT_API_MINOR;
+    a.last_error = api_last_error;
+    a.say = api_say;
+    a.ask = api_ask;
+    a.set_light = api_set_light;
+    a.move = api_move;
+    a.stop = api_stop;
+    a.tilt_head = api_tilt_head;
+    a.obstacle_scan = api_obstacle_scan;
+    a.now = api_now;
+    a.time_zone = api_time_zone;
+    a.schedule_add = api_schedule_add;
+    a.schedule_list = api_schedule_list;
+    a.schedule_remove = api_schedule_remove;
+    a.contacts_find = api_contacts_find;
+    a.contacts_add = api_contacts_add;
+    a.people_list = api_people_list;
+    a.storage_get = api_storage_get;
+    a.storage_set = api_storage_set;
+    a.storage_remove = api_storage_remove;
+    a.log = api_log;
+    a.is_cancelled = api_is_cancelled;
+    a.vision_find_object = api_vision_find_object;
+    a.vision_who_is_there = api_vision_who_is_there;
+    a.phone_call = api_phone_call;
+    a.smarthome_set = api_smarthome_set;
+    return a;
+  }();
+  return &api;
+}
+
+}  // namespace marvin::skills

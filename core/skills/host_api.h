@@ -1,0 +1,91 @@
+// The host's implementation of the Robot API table (marvin/robot.h).
+//
+// Each skill instance gets its own SkillContext; its address is the marvin_host* the
+// skill passes back on every call, so the host knows who is calling: which permissions
+// the manifest grants, whose storage keys to use, which task to cancel. Calls the
+// manifest does not grant fail with MARVIN_ERR_PERMISSION and a sentence naming the
+// permission and the skill. Schedules, contacts, people and storage are served from
+// PersonalData; light and motion go to the Body; say/ask to the User. Vision, phone and
+// smart home answer MARVIN_ERR_UNAVAILABLE until their issues land.
+//
+// Threading: a context is used by the one thread running its skill, except cancel(),
+// which any thread may call.
+#pragma once
+
+#include <marvin/robot.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "data/personal_data.h"
+#include "devices/body.h"
+#include "skills/user.h"
+
+namespace marvin::skills {
+
+// What the host lends to skills. Pointers are borrowed and must outlive every context.
+struct HostServices {
+  data::PersonalData* data = nullptr;
+  devices::Body* body = nullptr;
+  User* user = nullptr;
+  // Now, milliseconds since the Unix epoch (UTC). Default: the system clock.
+  std::function<std::int64_t()> now_ms;
+  std::string time_zone = "UTC";  // the owner's IANA time zone
+  // move() returns when the motion has run its course (true), or at once (false: the
+  // MockRobot, so tests have nothing to wait for).
+  bool wait_for_motion = true;
+};
+
+// The system clock in milliseconds since the Unix epoch.
+std::int64_t system_now_ms();
+
+class SkillContext {
+ public:
+  SkillContext(std::string skill_id, std::vector<std::string> permissions, HostServices& services);
+  SkillContext(const SkillContext&) = delete;
+  SkillContext& operator=(const SkillContext&) = delete;
+
+  marvin_host* host() { return reinterpret_cast<marvin_host*>(this); }
+  static SkillContext& from(marvin_host* host) { return *reinterpret_cast<SkillContext*>(host); }
+
+  const std::string& skill_id() const { return skill_id_; }
+  HostServices& services() { return services_; }
+  bool has_permission(const std::string& permission) const;
+  // Replaces the granted permissions (the MockRobot's tests); not while a call runs.
+  void set_permissions(std::vector<std::string> permissions) {
+    permissions_ = std::move(permissions);
+  }
+
+  // A new request starts: clears the cancelled flag and the last error.
+  void begin_request();
+  // The user said "stop" or the time limit ran out: wakes a waiting move() and makes
+  // is_cancelled() true until the next begin_request(). Any thread.
+  void cancel();
+  bool cancelled() const { return cancelled_.load(); }
+  // Waits up to `ms` milliseconds or until cancel(); true if cancelled.
+  bool wait_cancelled_for(std::uint32_t ms);
+
+  // The sentence for api->last_error(); set by the table's functions.
+  std::string last_error;
+
+ private:
+  std::string skill_id_;
+  std::vector<std::string> permissions_;
+  HostServices& services_;
+  std::atomic<bool> cancelled_{false};
+  std::mutex mutex_;
+  std::condition_variable wake_;
+};
+
+// The table every native skill of this host receives. Static; valid for the process.
+const marvin_robot_api* host_robot_api();
+
+// Copies `text` into a caller's buffer following the marvin_text_out contract.
+marvin_status write_text(marvin_text_out* out, std::string_view text);
+
+}  // namespace marvin::skills

@@ -1,0 +1,151 @@
+#include "skills/host_loop.h"
+
+namespace marvin::skills {
+
+HostLoop::HostLoop(std::function<void(std::string_view)> speak) : speak_(std::move(speak)) {}
+
+void HostLoop::attach(Manager& manager, const interpret::Interpreter& interpreter) {
+  manager_ = &manager;
+  interpreter_ = &interpreter;
+}
+
+void HostLoop::post(std::string utterance) {
+  {
+    std::lock_guard lock(mutex_);
+    input_.push_back(std::move(utterance));
+  }
+  changed_.notify_all();
+}
+
+void HostLoop::close() {
+  {
+    std::lock_guard lock(mutex_);
+    closed_ = true;
+  }
+  changed_.notify_all();
+}
+
+void HostLoop::interrupt() {
+  {
+    std::lock_guard lock(mutex_);
+    interrupted_ = true;
+  }
+  changed_.notify_all();
+}
+
+void HostLoop::say(std::string_view text) {
+  std::lock_guard lock(speak_mutex_);
+  speak_(text);
+}
+
+bool HostLoop::is_stop(const std::string& utterance) const {
+  return interpreter_ && interpreter_->builtin(utterance) == interpret::Builtin::kStop;
+}
+
+std::optional<std::string> HostLoop::pop() {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [&] { return !input_.empty() || closed_; });
+  if (input_.empty()) return std::nullopt;
+  std::string line = std::move(input_.front());
+  input_.pop_front();
+  holding_ = true;
+  lock.unlock();
+  changed_.notify_all();
+  if (heard_) heard_(line);
+  return line;
+}
+
+std::optional<std::string> HostLoop::ask(std::string_view question) {
+  {
+    std::lock_guard lock(mutex_);
+    if (interrupted_) return std::nullopt;
+  }
+  say(question);
+  if (std::this_thread::get_id() == loop_thread_) {
+    // Nested on the loop thread: the next utterance is the answer.
+    std::optional<std::string> line = pop();
+    if (!line) return std::nullopt;
+    {
+      std::lock_guard lock(mutex_);
+      holding_ = false;
+    }
+    if (is_stop(*line)) {
+      if (manager_) manager_->stop();
+      return std::nullopt;
+    }
+    return line;
+  }
+  // On a worker: the loop delivers the answer (or "stop" interrupts).
+  std::unique_lock lock(mutex_);
+  question_pending_ = true;
+  answer_.reset();
+  changed_.notify_all();  // a held utterance may be the answer
+  changed_.wait(lock, [&] {
+    return answer_.has_value() || interrupted_ || (closed_ && input_.empty() && !holding_);
+  });
+  question_pending_ = false;
+  std::optional<std::string> answer = std::move(answer_);
+  answer_.reset();
+  return answer;
+}
+
+void HostLoop::task_finished() {
+  { std::lock_guard lock(mutex_); }
+  changed_.notify_all();
+}
+
+bool HostLoop::stop_queued() const {
+  for (const std::string& line : input_) {
+    if (is_stop(line)) return true;
+  }
+  return false;
+}
+
+void HostLoop::route(std::string line) {
+  std::unique_lock lock(mutex_);
+  if (!manager_ || is_stop(line)) {
+    holding_ = false;
+    lock.unlock();
+    if (manager_) manager_->handle(line);
+    return;
+  }
+  for (;;) {
+    changed_.wait(lock, [&] { return question_pending_ || !manager_->busy() || stop_queued(); });
+    if (question_pending_) {
+      answer_ = std::move(line);
+      holding_ = false;
+      lock.unlock();
+      changed_.notify_all();
+      return;
+    }
+    if (!manager_->busy()) break;
+    // A "stop" behind the held utterance goes first.
+    for (auto it = input_.begin(); it != input_.end(); ++it) {
+      if (is_stop(*it)) {
+        std::string stop = std::move(*it);
+        input_.erase(it);
+        lock.unlock();
+        if (heard_) heard_(stop);
+        manager_->handle(stop);
+        lock.lock();
+        break;
+      }
+    }
+  }
+  interrupted_ = false;  // a new conversation starts
+  holding_ = false;
+  lock.unlock();
+  manager_->handle(line);
+}
+
+void HostLoop::run() {
+  loop_thread_ = std::this_thread::get_id();
+  while (std::optional<std::string> line = pop()) route(std::move(*line));
+  // End of input: a running task finishes (its questions get no answer).
+  if (manager_) {
+    while (!manager_->wait_idle(std::chrono::hours{1})) {
+    }
+  }
+}
+
+}  // namespace marvin::skills

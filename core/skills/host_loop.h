@@ -1,0 +1,79 @@
+// The host loop: the user's utterances arrive here one by one (typed lines in
+// `marvin run --sim`, recognised speech later) and go to the skill manager, or to the
+// question a skill is waiting on.
+//
+// post() may be called from any thread (the console reader); run() is the loop and owns
+// the thread that calls Manager::handle(). Utterances are taken in order; each one goes:
+//   - "stop": to the manager at once (it cancels whatever runs);
+//   - while a long task runs: held until the task asks a question (the utterance is the
+//     answer) or ends (the utterance starts the next conversation). A "stop" queued behind
+//     a held utterance is taken first: stop always wins;
+//   - otherwise: Manager::handle().
+// Questions asked on the loop thread itself (slot filling, a short skill's ask) take the
+// next utterance directly; "stop" there cancels through Manager::stop() and the question
+// returns no answer. After a "stop", every further question of that conversation returns
+// no answer at once, until the next conversation starts.
+//
+// HostLoop is the User of the manager: say() hands sentences to `speak` (serialised), ask()
+// says the question and waits as described. At end of input (close()), pending and later
+// questions return no answer and run() returns once the running task has finished.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "interpret/interpreter.h"
+#include "skills/manager.h"
+#include "skills/user.h"
+
+namespace marvin::skills {
+
+class HostLoop : public User {
+ public:
+  // `speak` receives each sentence; it is never called on two threads at once.
+  explicit HostLoop(std::function<void(std::string_view)> speak);
+
+  // Connects the loop to the manager it feeds (the manager's User must be this loop).
+  void attach(Manager& manager, const interpret::Interpreter& interpreter);
+  // Called on the loop thread with each utterance as it is taken (the console echoes
+  // piped input with it). Set before run().
+  void on_heard(std::function<void(std::string_view)> heard) { heard_ = std::move(heard); }
+
+  void post(std::string utterance);  // any thread
+  void close();                      // end of input; any thread
+  void run();                        // the host loop; returns after close() and the last task
+
+  void say(std::string_view text) override;
+  std::optional<std::string> ask(std::string_view question) override;
+  void interrupt() override;
+  void task_finished() override;
+
+ private:
+  std::optional<std::string> pop();  // waits for an utterance; nullopt at end of input
+  void route(std::string line);
+  bool stop_queued() const;  // mutex_ held
+  bool is_stop(const std::string& utterance) const;
+
+  std::function<void(std::string_view)> speak_;
+  std::function<void(std::string_view)> heard_;
+  std::mutex speak_mutex_;
+  Manager* manager_ = nullptr;
+  const interpret::Interpreter* interpreter_ = nullptr;
+  std::thread::id loop_thread_;
+
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::string> input_;      // guarded by mutex_
+  bool closed_ = false;                // guarded by mutex_
+  bool interrupted_ = false;           // guarded by mutex_
+  bool question_pending_ = false;      // guarded by mutex_: a worker waits in ask()
+  bool holding_ = false;               // guarded by mutex_: the loop holds an utterance
+  std::optional<std::string> answer_;  // guarded by mutex_
+};
+
+}  // namespace marvin::skills

@@ -1,0 +1,358 @@
+#include "skills/manager.h"
+
+#include <exception>
+
+#include "common/log.h"
+
+namespace marvin::skills {
+namespace {
+
+using nlohmann::json;
+
+const char* status_name(marvin_status status) {
+  switch (status) {
+    case MARVIN_OK:
+      return "ok";
+    case MARVIN_ERR_PERMISSION:
+      return "permission denied";
+    case MARVIN_ERR_UNAVAILABLE:
+      return "unavailable";
+    case MARVIN_ERR_INVALID:
+      return "invalid argument";
+    case MARVIN_ERR_NOT_FOUND:
+      return "not found";
+    case MARVIN_ERR_CANCELLED:
+      return "cancelled";
+    case MARVIN_ERR_TRUNCATED:
+      return "truncated";
+    case MARVIN_ERR_INTERNAL:
+      return "internal error";
+  }
+  return "unknown status";
+}
+
+// "Shall I call {contact}?" with each slot's value when it is text (a contact's name as
+// spelled in the address book), otherwise the words the user said.
+std::string fill_in(const std::string& text, const interpret::Match& match) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '{') {
+      std::size_t close = text.find('}', i);
+      if (close != std::string::npos) {
+        auto slot = match.slots.find(text.substr(i + 1, close - i - 1));
+        if (slot != match.slots.end()) {
+          const json& value = slot->second.value;
+          out += value.is_string() ? value.get<std::string>() : slot->second.text;
+          i = close;
+          continue;
+        }
+      }
+    }
+    out += text[i];
+  }
+  return out;
+}
+
+bool plain_words(const std::string& text) {
+  return text.find_first_of("{}[]()|") == std::string::npos;
+}
+
+}  // namespace
+
+Manager::Manager(Registry& registry, User& user, ManagerOptions options)
+    : registry_(registry), user_(user), options_(options) {}
+
+Manager::~Manager() {
+  LoadedSkill* running = nullptr;
+  {
+    std::lock_guard lock(mutex_);
+    cancelled_ = true;
+    running = running_;
+  }
+  if (running) running->context->cancel();
+  user_.interrupt();
+  if (worker_.joinable()) worker_.join();
+  if (watchdog_.joinable()) watchdog_.join();
+}
+
+void Manager::say(std::string_view text) {
+  {
+    std::lock_guard lock(mutex_);
+    last_said_ = text;
+  }
+  user_.say(text);
+}
+
+std::optional<std::string> Manager::ask(std::string_view question) {
+  {
+    std::lock_guard lock(mutex_);
+    if (cancelled_) return std::nullopt;
+    last_said_ = question;
+  }
+  return user_.ask(question);
+}
+
+bool Manager::busy() const {
+  std::lock_guard lock(mutex_);
+  return busy_;
+}
+
+bool Manager::wait_idle(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  return changed_.wait_for(lock, timeout, [&] { return !busy_; });
+}
+
+void Manager::join_finished() {
+  if (busy()) return;
+  if (worker_.joinable()) worker_.join();
+  if (watchdog_.joinable()) watchdog_.join();
+}
+
+interpret::Context Manager::context() const {
+  HostServices& s = registry_.services();
+  interpret::Context c;
+  c.now_utc_ms = s.now_ms ? s.now_ms() : system_now_ms();
+  c.time_zone = s.time_zone;
+  if (s.data) {
+    try {
+      for (const data::Contact& contact : s.data->list_contacts()) {
+        c.contact_names.push_back(contact.name);
+        for (const std::string& alias : contact.aliases) c.contact_names.push_back(alias);
+      }
+    } catch (const std::exception& e) {
+      log(LogLevel::kWarning, "skills", std::string("contacts unavailable: ") + e.what());
+    }
+  }
+  return c;
+}
+
+void Manager::light(int which) {
+  if (devices::Body* body = registry_.services().body) {
+    body->set_light(static_cast<devices::Light>(which));
+  }
+}
+
+void Manager::stop() {
+  LoadedSkill* running = nullptr;
+  {
+    std::lock_guard lock(mutex_);
+    cancelled_ = true;
+    running = running_;
+  }
+  if (running) running->context->cancel();
+  user_.interrupt();
+  say(running ? "OK, I stopped." : "OK.");
+}
+
+std::string Manager::no_match_sentence() const {
+  for (const auto& skill : registry_.skills()) {
+    for (const IntentDecl& intent : skill->manifest.intents) {
+      for (const std::string& t : intent.templates) {
+        if (plain_words(t)) {
+          return "Sorry, I don't know how to help with that. You can ask me, for example: \"" + t +
+                 "\".";
+        }
+      }
+    }
+  }
+  if (registry_.skills().empty()) {
+    return "Sorry, I don't know how to help with that: no skills are installed.";
+  }
+  return "Sorry, I don't know how to help with that.";
+}
+
+void Manager::handle(std::string_view utterance) {
+  join_finished();
+  const interpret::Interpreter& interpreter = registry_.interpreter();
+  switch (interpreter.builtin(utterance)) {
+    case interpret::Builtin::kStop:
+      stop();
+      return;
+    case interpret::Builtin::kRepeat: {
+      std::string last;
+      {
+        std::lock_guard lock(mutex_);
+        last = last_said_;
+      }
+      say(last.empty() ? "I haven't said anything yet." : last);
+      return;
+    }
+    default:
+      break;
+  }
+  std::string busy_with;
+  {
+    std::lock_guard lock(mutex_);
+    if (busy_) {
+      busy_with = running_ ? running_->manifest.name : "something";
+    } else {
+      cancelled_ = false;  // a new conversation starts
+    }
+  }
+  if (!busy_with.empty()) {
+    say("I'm still busy with " + busy_with + ". Say stop to interrupt.");
+    return;
+  }
+  interpret::Builtin b = interpreter.builtin(utterance);
+  if (b == interpret::Builtin::kYes || b == interpret::Builtin::kNo) {
+    say("I wasn't asking anything. What can I do for you?");
+    return;
+  }
+
+  std::optional<interpret::Match> match = interpreter.match(utterance, context());
+  if (!match) {
+    log(LogLevel::kInfo, "skills", "no match for \"" + std::string(utterance) + "\"");
+    say(no_match_sentence());
+    return;
+  }
+  LoadedSkill* skill = registry_.find(match->skill_id);
+  const IntentDecl* intent = skill ? skill->manifest.intent(match->intent) : nullptr;
+  if (!intent) {
+    log(LogLevel::kError, "skills",
+        "the interpreter matched unknown " + match->skill_id + "/" + match->intent);
+    say(no_match_sentence());
+    return;
+  }
+  if (!fill_slots(skill->manifest, *intent, *match)) return;
+  if (intent->confirm && !confirm(*intent, *match)) return;
+  run(*skill, *intent, *match, std::string(utterance));
+}
+
+bool Manager::fill_slots(const Manifest&, const IntentDecl& intent, interpret::Match& match) {
+  const interpret::Interpreter& interpreter = registry_.interpreter();
+  for (const SlotDecl& slot : intent.slots) {
+    if (!slot.required || match.slots.count(slot.name)) continue;
+    interpret::SlotSpec spec = slot_spec(slot);
+    bool filled = false;
+    for (int attempt = 0; attempt < 2 && !filled; ++attempt) {
+      std::optional<std::string> answer =
+          ask(attempt == 0 ? slot.question : "Sorry, I didn't get that. " + slot.question);
+      if (!answer) return false;  // stopped, or no answer will come
+      if (interpreter.builtin(*answer) == interpret::Builtin::kStop) {
+        stop();
+        return false;
+      }
+      if (auto value = interpreter.parse_slot(spec, *answer, context())) {
+        match.slots[slot.name] = *value;
+        filled = true;
+      }
+    }
+    if (!filled) {
+      say("Sorry, I still didn't understand. Let's leave it for now.");
+      return false;
+    }
+  }
+  return true;
+}
+
+bool Manager::confirm(const IntentDecl& intent, const interpret::Match& match) {
+  const interpret::Interpreter& interpreter = registry_.interpreter();
+  std::string question = fill_in(intent.confirm_question, match);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    std::optional<std::string> answer =
+        ask(attempt == 0 ? question : "Please answer yes or no. " + question);
+    if (!answer) return false;
+    switch (interpreter.builtin(*answer)) {
+      case interpret::Builtin::kYes:
+        return true;
+      case interpret::Builtin::kNo:
+        say("OK, I won't.");
+        return false;
+      case interpret::Builtin::kStop:
+        stop();
+        return false;
+      default:
+        break;
+    }
+  }
+  say("I'll take that as a no.");
+  return false;
+}
+
+void Manager::run(LoadedSkill& skill, const IntentDecl& intent, const interpret::Match& match,
+                  std::string utterance) {
+  json slots = json::object();
+  for (const auto& [name, value] : match.slots) slots[name] = value.value;
+  std::string slots_json = slots.dump();
+  // Cleared here, on the loop thread, so a "stop" arriving before the worker starts counts.
+  skill.context->begin_request();
+  {
+    std::lock_guard lock(mutex_);
+    running_ = &skill;
+    timed_out_ = false;
+  }
+  if (intent.execution == Execution::kShort || options_.run_long_inline) {
+    execute(skill, intent.name, slots_json, utterance, false);
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    busy_ = true;
+  }
+  auto limit = std::chrono::milliseconds{intent.time_limit_ms};
+  worker_ = std::thread([this, &skill, name = intent.name, slots_json, utterance] {
+    execute(skill, name, slots_json, utterance, true);
+  });
+  watchdog_ = std::thread([this, &skill, limit] {
+    std::unique_lock lock(mutex_);
+    if (changed_.wait_for(lock, limit, [&] { return !busy_; })) return;
+    timed_out_ = true;
+    lock.unlock();
+    log(LogLevel::kWarning, "skills", "skill '" + skill.manifest.id + "' ran out of time");
+    skill.context->cancel();
+    user_.interrupt();
+  });
+}
+
+void Manager::execute(LoadedSkill& skill, const std::string& intent, const std::string& slots_json,
+                      const std::string& utterance, bool timed) {
+  light(static_cast<int>(devices::Light::kExecuting));
+  marvin_request request{sizeof(marvin_request), intent.c_str(), slots_json.c_str(),
+                         utterance.c_str()};
+  std::string error;
+  marvin_status status = MARVIN_ERR_INTERNAL;
+  try {
+    status = skill.instance->handle(request, &error);
+  } catch (const std::exception& e) {
+    error = std::string("exception escaped the skill runtime: ") + e.what();
+  } catch (...) {
+    error = "unknown exception escaped the skill runtime";
+  }
+  report(skill, intent, status, error);
+  light(static_cast<int>(devices::Light::kAwaiting));
+  {
+    std::lock_guard lock(mutex_);
+    running_ = nullptr;
+    if (timed) busy_ = false;
+  }
+  changed_.notify_all();
+  if (timed) user_.task_finished();
+}
+
+void Manager::report(LoadedSkill& skill, const std::string& intent, marvin_status status,
+                     const std::string& error) {
+  if (status == MARVIN_OK) return;
+  bool timed_out = false;
+  {
+    std::lock_guard lock(mutex_);
+    timed_out = timed_out_;
+  }
+  if (status == MARVIN_ERR_CANCELLED) {
+    // "stop" has already been answered; a time limit has not.
+    if (timed_out) say("Sorry, that took too long, so I stopped.");
+    return;
+  }
+  std::string message = "skill '" + skill.manifest.id + "' intent '" + intent + "' failed (" +
+                        status_name(status) + "): " + error;
+  log(LogLevel::kError, "skills", message);
+  if (data::PersonalData* data = registry_.services().data) {
+    try {
+      data->log_event("skill_error", skill.manifest.id, message);
+    } catch (const std::exception& e) {
+      log(LogLevel::kError, "skills", std::string("cannot record the event: ") + e.what());
+    }
+  }
+  say("Sorry, something went wrong with " + skill.manifest.name + ".");
+}
+
+}  // namespace marvin::skills

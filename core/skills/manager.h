@@ -1,0 +1,102 @@
+// The skill manager: turns what the user said into a skill's action, one conversation at
+// a time.
+//
+// For each utterance handle():
+//   1. "stop"/"cancel" always wins: it cancels the running task (its pending question, its
+//      motion, its is_cancelled() flag) and answers "OK.". "repeat" says the last sentence
+//      again.
+//   2. While a long task runs, anything else is answered "I'm still busy ..." (one
+//      conversation at a time). The host loop delivers answers to a task's question before
+//      calling handle(), see HostLoop.
+//   3. The interpreter matches the utterance. No match is answered with a helpful
+//      sentence naming something the robot can do, never with a guess.
+//   4. Each required slot the user did not say is asked for with the manifest's question
+//      and parsed with the slot's type; a bad answer is asked again once, then the manager
+//      gives up politely.
+//   5. Intents marked "confirm" ask their confirmation question; only "yes" goes ahead.
+//   6. The skill runs: "short" intents on the calling thread (the host loop), "long" ones
+//      on a worker thread with the intent's time limit, cancellable by "stop".
+//   7. A failure or exception of the skill is logged (and recorded as an event) and
+//      answered with an apology; the host keeps running.
+//
+// The manager is also the User its skills talk to (install it as HostServices::user): it
+// forwards to the real User and remembers the last sentence for "repeat".
+//
+// Threading: handle() is called by one thread (the host loop). stop(), busy() and
+// wait_idle() may be called from any thread. Status lights go to HostServices::body when
+// there is one: executing while a skill acts, awaiting otherwise.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "skills/registry.h"
+#include "skills/user.h"
+
+namespace marvin::skills {
+
+struct ManagerOptions {
+  // Run "long" intents on the calling thread too: the SkillHarness uses this so tests
+  // have no threads to wait for. Time limits then do not apply.
+  bool run_long_inline = false;
+};
+
+class Manager : public User {
+ public:
+  // `registry` and `user` must outlive the manager.
+  Manager(Registry& registry, User& user, ManagerOptions options = {});
+  ~Manager() override;  // cancels a running task and waits for it
+  Manager(const Manager&) = delete;
+  Manager& operator=(const Manager&) = delete;
+
+  // Acts on one utterance. The host loop's thread only.
+  void handle(std::string_view utterance);
+  // Cancels the running task or dialogue and answers "OK.". Any thread.
+  void stop();
+  // True while a long task runs on the worker.
+  bool busy() const;
+  // Waits until no long task runs; false if `timeout` passed first.
+  bool wait_idle(std::chrono::milliseconds timeout);
+
+  // User, for the skills (forwarded to the real user).
+  void say(std::string_view text) override;
+  std::optional<std::string> ask(std::string_view question) override;
+  void interrupt() override { user_.interrupt(); }
+  void task_finished() override { user_.task_finished(); }
+
+  // The interpreter's view of the world now: clock, time zone, contact names.
+  interpret::Context context() const;
+
+ private:
+  bool fill_slots(const Manifest& manifest, const IntentDecl& intent, interpret::Match& match);
+  bool confirm(const IntentDecl& intent, const interpret::Match& match);
+  void run(LoadedSkill& skill, const IntentDecl& intent, const interpret::Match& match,
+           std::string utterance);
+  void execute(LoadedSkill& skill, const std::string& intent, const std::string& slots_json,
+               const std::string& utterance, bool timed);
+  void report(LoadedSkill& skill, const std::string& intent, marvin_status status,
+              const std::string& error);
+  void light(int which);
+  void join_finished();
+  std::string no_match_sentence() const;
+
+  Registry& registry_;
+  User& user_;
+  ManagerOptions options_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  bool busy_ = false;               // guarded by mutex_
+  bool timed_out_ = false;          // guarded by mutex_
+  bool cancelled_ = false;          // guarded by mutex_: "stop" during this conversation
+  LoadedSkill* running_ = nullptr;  // guarded by mutex_: the skill acting now
+  std::string last_said_;           // guarded by mutex_
+  std::thread worker_;
+  std::thread watchdog_;
+};
+
+}  // namespace marvin::skills

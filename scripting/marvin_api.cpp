@@ -1,0 +1,476 @@
+// The `marvin` table a Lua skill sees: the Robot API, with the skill's permissions.
+//
+// Every function checks its permission before calling the host (which checks again), so
+// a skill learns at the line of its call what it lacks. API failures raise
+// "marvin.NAME: <the host's sentence>". See sdk/lua/README.md for the user's view.
+//
+// No C++ object with a destructor is alive across a call that may raise (Lua errors
+// longjmp): computed text goes through SkillContext's scratch members.
+#include <cmath>
+#include <cstring>
+
+#include <lua.hpp>
+
+#include "scripting/lua_json.h"
+#include "scripting/skill_context.h"
+
+namespace marvin::scripting {
+
+char kHandlersKey;
+char kTimersKey;
+
+namespace {
+
+constexpr std::int64_t kDefaultListDays = 7;
+
+[[noreturn]] void raise_status(lua_State* L, SkillContext* ctx, const char* what,
+                               marvin_status status) {
+  ctx->raised_status = status;
+  const char* reason = ctx->api->last_error(ctx->host);
+  if (reason == nullptr || reason[0] == '\0') {
+    switch (status) {
+      case MARVIN_ERR_PERMISSION: reason = "permission denied"; break;
+      case MARVIN_ERR_UNAVAILABLE: reason = "not available on this robot"; break;
+      case MARVIN_ERR_INVALID: reason = "invalid argument"; break;
+      case MARVIN_ERR_NOT_FOUND: reason = "not found"; break;
+      case MARVIN_ERR_CANCELLED: reason = "cancelled"; break;
+      default: reason = "the robot could not do it"; break;
+    }
+  }
+  luaL_error(L, "marvin.%s: %s", what, reason);
+  std::abort();
+}
+
+void require_permission(lua_State* L, SkillContext* ctx, const char* permission,
+                        const char* what) {
+  // std::set::count with a const char* builds a temporary string: keep it out of the
+  // frame that raises.
+  bool granted = false;
+  try {
+    granted = ctx->permissions.count(permission) != 0;
+  } catch (...) {
+  }
+  if (granted) return;
+  ctx->raised_status = MARVIN_ERR_PERMISSION;
+  luaL_error(L, "marvin.%s: permission '%s' is not granted to skill '%s' (add \"%s\" to "
+             "\"permissions\" in skill.json)", what, permission, ctx->spec.id.c_str(), permission);
+}
+
+// Hosts built against an older minor of the Robot API may leave newer slots empty.
+void need(lua_State* L, SkillContext* ctx, bool present, const char* what) {
+  if (present) return;
+  ctx->raised_status = MARVIN_ERR_UNAVAILABLE;
+  luaL_error(L, "marvin.%s: not available on this robot", what);
+}
+
+void check(lua_State* L, SkillContext* ctx, const char* what, marvin_status status) {
+  if (status != MARVIN_OK) raise_status(L, ctx, what, status);
+}
+
+// Pushes ctx->json (parsed from ctx->text) or raises.
+void push_json_text(lua_State* L, SkillContext* ctx, const char* what) {
+  bool ok = true;
+  try {
+    ctx->json = nlohmann::json::parse(ctx->text);
+  } catch (...) {
+    ok = false;
+  }
+  if (!ok) luaL_error(L, "marvin.%s: the robot answered with invalid JSON", what);
+  push_json(L, ctx->json);
+}
+
+// Converts the table argument at `index` into ctx->text (JSON) or raises.
+void table_to_json_text(lua_State* L, SkillContext* ctx, int index, const char* what) {
+  luaL_checktype(L, index, LUA_TTABLE);
+  bool ok = false;
+  try {
+    ok = to_json(L, index, &ctx->json, &ctx->message);
+    if (ok) ctx->text = ctx->json.dump();
+  } catch (...) {
+    ok = false;
+    ctx->message = "cannot convert the table to JSON";
+  }
+  if (!ok) luaL_error(L, "marvin.%s: %s", what, ctx->message.c_str());
+}
+
+// --- intents and timers ------------------------------------------------------------------
+
+int l_on(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* intent = luaL_checkstring(L, 1);
+  luaL_checktype(L, 2, LUA_TFUNCTION);
+  if (!ctx->loading) {
+    return luaL_error(L, "marvin.on: handlers are registered while the skill loads (at the top "
+                      "level of %s)", ctx->spec.entry.c_str());
+  }
+  bool declared = false;
+  try {
+    declared = ctx->declared_intents.count(intent) != 0;
+    if (declared) ctx->handled_intents.insert(intent);
+    if (!declared) {
+      ctx->message.clear();
+      for (const std::string& name : ctx->declared_intents) {
+        if (!ctx->message.empty()) ctx->message += ", ";
+        ctx->message += name;
+      }
+    }
+  } catch (...) {
+  }
+  if (!declared) {
+    return luaL_error(L, "marvin.on: intent '%s' is not declared in skill.json (declared: %s)",
+                      intent, ctx->message.empty() ? "none" : ctx->message.c_str());
+  }
+  lua_rawgetp(L, LUA_REGISTRYINDEX, &kHandlersKey);
+  lua_pushvalue(L, 1);
+  lua_pushvalue(L, 2);
+  lua_rawset(L, -3);
+  return 0;
+}
+
+int l_after(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const lua_Number seconds = luaL_checknumber(L, 1);
+  luaL_checktype(L, 2, LUA_TFUNCTION);
+  if (!(seconds >= 0 && seconds <= 7 * 24 * 3600.0)) {
+    return luaL_error(L, "marvin.after: seconds must be between 0 and one week (use "
+                      "marvin.schedule for reminders)");
+  }
+  if (ctx->timers.size() >= kMaxPendingTimers) {
+    return luaL_error(L, "marvin.after: too many pending timers (at most %d)",
+                      static_cast<int>(kMaxPendingTimers));
+  }
+  std::int64_t now = 0;
+  need(L, ctx, ctx->api->now != nullptr, "after");
+  check(L, ctx, "after", ctx->api->now(ctx->host, &now));
+  const std::int64_t id = ctx->next_timer_id++;
+  lua_rawgetp(L, LUA_REGISTRYINDEX, &kTimersKey);
+  lua_pushvalue(L, 2);
+  lua_rawseti(L, -2, id);
+  bool ok = true;
+  try {
+    ctx->timers.push_back({id, now + static_cast<std::int64_t>(std::llround(seconds * 1000.0))});
+  } catch (...) {
+    ok = false;
+  }
+  if (!ok) return luaL_error(L, "marvin.after: out of memory");
+  lua_pushinteger(L, id);
+  return 1;
+}
+
+// --- speech --------------------------------------------------------------------------------
+
+int l_say(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  std::size_t len = 0;
+  const char* text = luaL_checklstring(L, 1, &len);
+  if (len > kMaxSayBytes) {
+    return luaL_error(L, "marvin.say: the sentence is %d bytes long (at most %d)",
+                      static_cast<int>(len), static_cast<int>(kMaxSayBytes));
+  }
+  if (++ctx->says > kMaxSaysPerRequest) {
+    return luaL_error(L, "marvin.say: more than %d sentences in one request", kMaxSaysPerRequest);
+  }
+  check(L, ctx, "say", ctx->api->say(ctx->host, text));
+  return 0;
+}
+
+int ask_continue(lua_State*, int, lua_KContext) {
+  return 1;  // the answer handle() pushed when resuming
+}
+
+// Asks from inside a coroutine the skill made (or where yielding is impossible): calls the
+// host directly, with the clock paused.
+int ask_now(lua_State* L, SkillContext* ctx) {
+  Sandbox* sb = ctx->sandbox.get();
+  sb->pause_clock();
+  const marvin_status status = ctx->call_text([ctx](marvin_text_out* out) {
+    return ctx->api->ask(ctx->host, ctx->question.c_str(), out);
+  });
+  sb->resume_clock();
+  check(L, ctx, "ask", status);
+  lua_pushlstring(L, ctx->text.data(), ctx->text.size());
+  return 1;
+}
+
+int l_ask(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  std::size_t len = 0;
+  const char* question = luaL_checklstring(L, 1, &len);
+  if (len > kMaxSayBytes) return luaL_error(L, "marvin.ask: the question is too long");
+  if (ctx->loading || ctx->handler_thread == nullptr) {
+    return luaL_error(L, "marvin.ask: questions are asked from an intent handler or a timer, "
+                      "not while the skill loads");
+  }
+  bool ok = true;
+  try {
+    ctx->question.assign(question, len);
+  } catch (...) {
+    ok = false;
+  }
+  if (!ok) return luaL_error(L, "marvin.ask: out of memory");
+  if (L == ctx->handler_thread && lua_isyieldable(L)) {
+    ctx->ask_pending = true;
+    return lua_yieldk(L, 0, 0, ask_continue);
+  }
+  return ask_now(L, ctx);
+}
+
+// --- body ------------------------------------------------------------------------------------
+
+int l_light(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  static const char* const names[] = {"off", "awaiting", "listening", "executing", nullptr};
+  const int light = luaL_checkoption(L, 1, nullptr, names);
+  require_permission(L, ctx, "light", "light");
+  need(L, ctx, ctx->api->set_light != nullptr, "light");
+  check(L, ctx, "light", ctx->api->set_light(ctx->host, static_cast<marvin_light>(light)));
+  return 0;
+}
+
+int l_move(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  static const char* const names[] = {"forward", "backward", "left", "right", nullptr};
+  const int direction = luaL_checkoption(L, 1, nullptr, names);
+  const lua_Number seconds = luaL_checknumber(L, 2);
+  const lua_Integer speed = luaL_optinteger(L, 3, 128);
+  luaL_argcheck(L, seconds > 0 && seconds <= 30, 2, "seconds must be in (0, 30]");
+  luaL_argcheck(L, speed >= 0 && speed <= 255, 3, "speed must be 0..255");
+  require_permission(L, ctx, "motion", "move");
+  need(L, ctx, ctx->api->move != nullptr, "move");
+  Sandbox* sb = ctx->sandbox.get();
+  sb->pause_clock();  // the body's time is not the script's
+  const marvin_status status =
+      ctx->api->move(ctx->host, static_cast<marvin_direction>(direction),
+                     static_cast<std::uint8_t>(speed),
+                     static_cast<std::uint32_t>(std::llround(seconds * 1000.0)));
+  sb->resume_clock();
+  check(L, ctx, "move", status);
+  return 0;
+}
+
+int l_stop(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "motion", "stop");
+  need(L, ctx, ctx->api->stop != nullptr, "stop");
+  check(L, ctx, "stop", ctx->api->stop(ctx->host));
+  return 0;
+}
+
+int l_tilt_head(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const lua_Integer degrees = luaL_checkinteger(L, 1);
+  luaL_argcheck(L, degrees >= -30 && degrees <= 30, 1, "degrees must be -30..30");
+  require_permission(L, ctx, "motion", "tilt_head");
+  need(L, ctx, ctx->api->tilt_head != nullptr, "tilt_head");
+  check(L, ctx, "tilt_head", ctx->api->tilt_head(ctx->host, static_cast<std::int32_t>(degrees)));
+  return 0;
+}
+
+// --- time and log ------------------------------------------------------------------------------
+
+int l_now(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  need(L, ctx, ctx->api->now != nullptr, "now");
+  std::int64_t now = 0;
+  check(L, ctx, "now", ctx->api->now(ctx->host, &now));
+  lua_pushinteger(L, now / 1000);
+  return 1;
+}
+
+int l_log(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  static const char* const levels[] = {"debug", "info", "warning", "error", nullptr};
+  const int level = luaL_checkoption(L, 2, "info", levels);
+  std::size_t len = 0;
+  const char* text = luaL_tolstring(L, 1, &len);
+  ctx->sandbox->emit(static_cast<LogLevel>(level), std::string_view(text, len));
+  return 0;
+}
+
+// --- schedules ----------------------------------------------------------------------------------
+
+int l_schedule_add(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "schedule", "schedule.add");
+  need(L, ctx, ctx->api->schedule_add != nullptr, "schedule.add");
+  table_to_json_text(L, ctx, 1, "schedule.add");
+  try {
+    ctx->message = ctx->text;
+  } catch (...) {
+  }
+  const marvin_status status = ctx->call_text([ctx](marvin_text_out* out) {
+    return ctx->api->schedule_add(ctx->host, ctx->message.c_str(), out);
+  });
+  check(L, ctx, "schedule.add", status);
+  push_json_text(L, ctx, "schedule.add");
+  return 1;
+}
+
+int l_schedule_list(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "schedule", "schedule.list");
+  need(L, ctx, ctx->api->schedule_list != nullptr && ctx->api->now != nullptr, "schedule.list");
+  std::int64_t now = 0;
+  check(L, ctx, "schedule.list", ctx->api->now(ctx->host, &now));
+  const lua_Integer from = luaL_optinteger(L, 1, now / 1000);
+  const lua_Integer to = luaL_optinteger(L, 2, from + kDefaultListDays * 24 * 3600);
+  const marvin_status status = ctx->call_text([ctx, from, to](marvin_text_out* out) {
+    return ctx->api->schedule_list(ctx->host, from * 1000, to * 1000, out);
+  });
+  check(L, ctx, "schedule.list", status);
+  push_json_text(L, ctx, "schedule.list");
+  return 1;
+}
+
+int l_schedule_remove(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const lua_Integer id = luaL_checkinteger(L, 1);
+  require_permission(L, ctx, "schedule", "schedule.remove");
+  need(L, ctx, ctx->api->schedule_remove != nullptr, "schedule.remove");
+  const marvin_status status = ctx->api->schedule_remove(ctx->host, id);
+  if (status == MARVIN_ERR_NOT_FOUND) {
+    lua_pushboolean(L, 0);
+    return 1;
+  }
+  check(L, ctx, "schedule.remove", status);
+  lua_pushboolean(L, 1);
+  return 1;
+}
+
+// --- contacts ---------------------------------------------------------------------------------------
+
+int l_contacts_find(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* name = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "contacts", "contacts.find");
+  need(L, ctx, ctx->api->contacts_find != nullptr, "contacts.find");
+  const marvin_status status = ctx->call_text([ctx, name](marvin_text_out* out) {
+    return ctx->api->contacts_find(ctx->host, name, out);
+  });
+  check(L, ctx, "contacts.find", status);
+  push_json_text(L, ctx, "contacts.find");
+  return 1;
+}
+
+int l_contacts_add(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "contacts", "contacts.add");
+  need(L, ctx, ctx->api->contacts_add != nullptr, "contacts.add");
+  table_to_json_text(L, ctx, 1, "contacts.add");
+  try {
+    ctx->message = ctx->text;
+  } catch (...) {
+  }
+  const marvin_status status = ctx->call_text([ctx](marvin_text_out* out) {
+    return ctx->api->contacts_add(ctx->host, ctx->message.c_str(), out);
+  });
+  check(L, ctx, "contacts.add", status);
+  push_json_text(L, ctx, "contacts.add");
+  return 1;
+}
+
+int l_people(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "contacts", "contacts.people");
+  need(L, ctx, ctx->api->people_list != nullptr, "contacts.people");
+  const marvin_status status = ctx->call_text(
+      [ctx](marvin_text_out* out) { return ctx->api->people_list(ctx->host, out); });
+  check(L, ctx, "contacts.people", status);
+  push_json_text(L, ctx, "contacts.people");
+  return 1;
+}
+
+// --- storage ------------------------------------------------------------------------------------------
+
+int l_storage_get(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* key = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "storage", "storage.get");
+  need(L, ctx, ctx->api->storage_get != nullptr, "storage.get");
+  const marvin_status status = ctx->call_text([ctx, key](marvin_text_out* out) {
+    return ctx->api->storage_get(ctx->host, key, out);
+  });
+  if (status == MARVIN_ERR_NOT_FOUND) {
+    lua_pushnil(L);
+    return 1;
+  }
+  check(L, ctx, "storage.get", status);
+  lua_pushlstring(L, ctx->text.data(), ctx->text.size());
+  return 1;
+}
+
+int l_storage_remove(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* key = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "storage", "storage.remove");
+  need(L, ctx, ctx->api->storage_remove != nullptr, "storage.remove");
+  const marvin_status status = ctx->api->storage_remove(ctx->host, key);
+  if (status != MARVIN_ERR_NOT_FOUND) check(L, ctx, "storage.remove", status);
+  return 0;
+}
+
+int l_storage_set(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* key = luaL_checkstring(L, 1);
+  if (lua_isnoneornil(L, 2)) return l_storage_remove(L);
+  const int type = lua_type(L, 2);
+  luaL_argexpected(L, type == LUA_TSTRING || type == LUA_TNUMBER || type == LUA_TBOOLEAN, 2,
+                   "string, number, boolean or nil");
+  std::size_t len = 0;
+  const char* value = luaL_tolstring(L, 2, &len);
+  require_permission(L, ctx, "storage", "storage.set");
+  need(L, ctx, ctx->api->storage_set != nullptr, "storage.set");
+  check(L, ctx, "storage.set", ctx->api->storage_set(ctx->host, key, value, len));
+  return 0;
+}
+
+void set_functions(lua_State* L, const luaL_Reg* functions) { luaL_setfuncs(L, functions, 0); }
+
+}  // namespace
+
+void install_marvin_api(lua_State* L, SkillContext* ctx) {
+  (void)ctx;
+  lua_createtable(L, 0, 0);
+  lua_rawsetp(L, LUA_REGISTRYINDEX, &kHandlersKey);
+  lua_createtable(L, 0, 0);
+  lua_rawsetp(L, LUA_REGISTRYINDEX, &kTimersKey);
+
+  lua_createtable(L, 0, 16);
+  static const luaL_Reg top[] = {
+      {"on", l_on},       {"say", l_say},     {"ask", l_ask},   {"light", l_light},
+      {"move", l_move},   {"stop", l_stop},   {"tilt_head", l_tilt_head},
+      {"now", l_now},     {"after", l_after}, {"log", l_log},   {nullptr, nullptr}};
+  set_functions(L, top);
+
+  lua_createtable(L, 0, 3);
+  static const luaL_Reg schedule[] = {{"add", l_schedule_add},
+                                      {"list", l_schedule_list},
+                                      {"remove", l_schedule_remove},
+                                      {nullptr, nullptr}};
+  set_functions(L, schedule);
+  Sandbox::make_read_only(L, "marvin.schedule");
+  lua_setfield(L, -2, "schedule");
+
+  lua_createtable(L, 0, 3);
+  static const luaL_Reg contacts[] = {{"find", l_contacts_find},
+                                      {"add", l_contacts_add},
+                                      {"people", l_people},
+                                      {nullptr, nullptr}};
+  set_functions(L, contacts);
+  Sandbox::make_read_only(L, "marvin.contacts");
+  lua_setfield(L, -2, "contacts");
+
+  lua_createtable(L, 0, 3);
+  static const luaL_Reg storage[] = {{"get", l_storage_get},
+                                     {"set", l_storage_set},
+                                     {"remove", l_storage_remove},
+                                     {nullptr, nullptr}};
+  set_functions(L, storage);
+  Sandbox::make_read_only(L, "marvin.storage");
+  lua_setfield(L, -2, "storage");
+
+  Sandbox::make_read_only(L, "marvin");
+  Sandbox::from(L)->set_protected_global(L, "marvin");
+}
+
+}  // namespace marvin::scripting

@@ -1,0 +1,349 @@
+// Marvin SDK, C++ layer: write a native skill as one class and one macro.
+//
+//   #include <marvin/skill.hpp>
+//
+//   class Dice : public marvin::Skill {
+//    public:
+//     using marvin::Skill::Skill;
+//     void handle(const marvin::Request& request) override {
+//       int count = request.slots.value("count", 1);
+//       robot().say("You rolled " + std::to_string(...) + ".");
+//     }
+//   };
+//   MARVIN_SKILL(Dice, "dice")   // the id must equal "id" in skill.json
+//
+// Life cycle: the host constructs one instance of the class when it loads the skill (the
+// constructor gets the Robot; throwing from it refuses the load with your message), calls
+// handle() once per recognised request, never on two threads at once, and destroys the
+// instance before unloading the library.
+//
+// Errors: handle() reports failure by throwing. A marvin::Error carries its status (a
+// Robot API call that failed throws one, e.g. MARVIN_ERR_CANCELLED when the user said
+// "stop" during ask() or move()); any other std::exception becomes MARVIN_ERR_INTERNAL with
+// its what(). Nothing escapes across the C ABI: the macro's functions catch everything.
+// The host logs the message and apologises to the user; it never speaks your message.
+//
+// Header-only; needs C++17 and nlohmann/json (slots and the JSON formats of schedules and
+// contacts, see README.md next to this file).
+#ifndef MARVIN_SKILL_HPP_
+#define MARVIN_SKILL_HPP_
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "marvin/skill.h"
+
+namespace marvin {
+
+// A failed call, with its status. what() is the host's (or the skill's) sentence.
+class Error : public std::runtime_error {
+ public:
+  Error(marvin_status status, const std::string& message)
+      : std::runtime_error(message), status_(status) {}
+  marvin_status status() const { return status_; }
+
+ private:
+  marvin_status status_;
+};
+
+// One recognised request.
+struct Request {
+  std::string intent;     // the intent's name in skill.json
+  nlohmann::json slots;   // {"slot": value}: numbers, seconds, {"at": ...}, names, text
+  std::string utterance;  // what the user said, normalised
+};
+
+// The robot, as a skill sees it: the Robot API table of marvin/robot.h with C++ types.
+// Every call throws marvin::Error on failure (permission, cancelled, unavailable, ...).
+// Use it only from the thread that called your handle(). Cheap to copy.
+class Robot {
+ public:
+  Robot(const marvin_robot_api* api, marvin_host* host) : api_(api), host_(host) {}
+
+  const marvin_robot_api* api() const { return api_; }
+  marvin_host* host() const { return host_; }
+
+  void say(std::string_view text) {
+    check(fn(&marvin_robot_api::say, "say")(host_, str(text).c_str()));
+  }
+  // Speaks `question` and returns the user's answer. Throws Error(MARVIN_ERR_CANCELLED)
+  // if the user said "stop" instead.
+  std::string ask(std::string_view question) {
+    std::string q = str(question);
+    auto call = fn(&marvin_robot_api::ask, "ask");
+    return text([&](marvin_text_out* out) { return call(host_, q.c_str(), out); });
+  }
+  void set_light(marvin_light light) {
+    check(fn(&marvin_robot_api::set_light, "set_light")(host_, light));
+  }
+  // Returns once the motion has run its course; throws Error(MARVIN_ERR_CANCELLED) if the
+  // user said "stop" (the base is stopped then).
+  void move(marvin_direction direction, std::uint8_t speed, std::chrono::milliseconds duration) {
+    check(fn(&marvin_robot_api::move, "move")(host_, direction, speed,
+                                              static_cast<std::uint32_t>(duration.count())));
+  }
+  void stop() { check(fn(&marvin_robot_api::stop, "stop")(host_)); }
+  void tilt_head(int degrees) {
+    check(fn(&marvin_robot_api::tilt_head, "tilt_head")(host_, static_cast<std::int32_t>(degrees)));
+  }
+  std::vector<marvin_scan_point> obstacle_scan() {
+    std::vector<marvin_scan_point> points(256);
+    std::size_t count = 0;
+    auto call = fn(&marvin_robot_api::obstacle_scan, "obstacle_scan");
+    marvin_status s = call(host_, points.data(), points.size(), &count);
+    if (s != MARVIN_ERR_TRUNCATED) check(s);
+    points.resize(count);
+    return points;
+  }
+  // Milliseconds since the Unix epoch, UTC, from the host's clock.
+  std::int64_t now_ms() {
+    std::int64_t ms = 0;
+    check(fn(&marvin_robot_api::now, "now")(host_, &ms));
+    return ms;
+  }
+  // The owner's IANA time zone, e.g. "Europe/Berlin".
+  std::string time_zone() {
+    auto call = fn(&marvin_robot_api::time_zone, "time_zone");
+    return text([&](marvin_text_out* out) { return call(host_, out); });
+  }
+
+  // Schedules, contacts and people: JSON in the formats of README.md.
+  nlohmann::json schedule_add(const nlohmann::json& reminder) {
+    std::string in = reminder.dump();
+    auto call = fn(&marvin_robot_api::schedule_add, "schedule_add");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, in.c_str(), out); }));
+  }
+  nlohmann::json schedule_list(std::int64_t from_unix_ms, std::int64_t to_unix_ms) {
+    auto call = fn(&marvin_robot_api::schedule_list, "schedule_list");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, from_unix_ms, to_unix_ms, out); }));
+  }
+  void schedule_remove(std::int64_t reminder_id) {
+    check(fn(&marvin_robot_api::schedule_remove, "schedule_remove")(host_, reminder_id));
+  }
+  nlohmann::json contacts_find(std::string_view name) {
+    std::string n = str(name);
+    auto call = fn(&marvin_robot_api::contacts_find, "contacts_find");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, n.c_str(), out); }));
+  }
+  nlohmann::json contacts_add(const nlohmann::json& contact) {
+    std::string in = contact.dump();
+    auto call = fn(&marvin_robot_api::contacts_add, "contacts_add");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, in.c_str(), out); }));
+  }
+  nlohmann::json people_list() {
+    auto call = fn(&marvin_robot_api::people_list, "people_list");
+    return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
+  }
+
+  // This skill's own key-value storage. storage_get returns nullopt for a missing key.
+  std::optional<std::string> storage_get(std::string_view key) {
+    std::string k = str(key);
+    auto call = fn(&marvin_robot_api::storage_get, "storage_get");
+    try {
+      return text([&](marvin_text_out* out) { return call(host_, k.c_str(), out); });
+    } catch (const Error& e) {
+      if (e.status() == MARVIN_ERR_NOT_FOUND) return std::nullopt;
+      throw;
+    }
+  }
+  void storage_set(std::string_view key, std::string_view value) {
+    check(fn(&marvin_robot_api::storage_set, "storage_set")(host_, str(key).c_str(), value.data(),
+                                                            value.size()));
+  }
+  // False if there was nothing stored under `key`.
+  bool storage_remove(std::string_view key) {
+    marvin_status s =
+        fn(&marvin_robot_api::storage_remove, "storage_remove")(host_, str(key).c_str());
+    if (s == MARVIN_ERR_NOT_FOUND) return false;
+    check(s);
+    return true;
+  }
+
+  void log(marvin_log_level level, std::string_view message) {
+    check(fn(&marvin_robot_api::log, "log")(host_, level, str(message).c_str()));
+  }
+  // True once the user said "stop" or the time limit ran out; long loops poll it.
+  bool cancelled() const {
+    return has(offsetof(marvin_robot_api, is_cancelled), sizeof(api_->is_cancelled)) &&
+           api_->is_cancelled && api_->is_cancelled(host_) != 0;
+  }
+  // Throws Error(MARVIN_ERR_CANCELLED) once cancelled().
+  void check_cancelled() const {
+    if (cancelled()) throw Error(MARVIN_ERR_CANCELLED, "cancelled");
+  }
+
+ private:
+  static std::string str(std::string_view s) { return std::string(s); }
+
+  bool has(std::size_t offset, std::size_t size) const {
+    return api_ && api_->struct_size >= offset + size;
+  }
+
+  // The table's function `member`, or Error(UNAVAILABLE) when the host's (older) table
+  // does not have it.
+  template <class F>
+  F fn(F marvin_robot_api::*member, const char* name) const {
+    static const marvin_robot_api probe{};
+    std::size_t offset = static_cast<std::size_t>(reinterpret_cast<const char*>(&(probe.*member)) -
+                                                  reinterpret_cast<const char*>(&probe));
+    if (!has(offset, sizeof(F)) || !(api_->*member)) {
+      throw Error(MARVIN_ERR_UNAVAILABLE,
+                  std::string("this host's Robot API has no ") + name + "()");
+    }
+    return api_->*member;
+  }
+
+  void check(marvin_status status) const {
+    if (status == MARVIN_OK) return;
+    const char* why = api_->last_error ? api_->last_error(host_) : nullptr;
+    throw Error(status, why && *why ? why : "Robot API call failed");
+  }
+
+  // Calls a function writing text into a caller-owned buffer, retrying once with a buffer
+  // of the size the host reported when the first was too small.
+  template <class Call>
+  std::string text(Call&& call) const {
+    std::string buffer(512, '\0');
+    marvin_text_out out{buffer.data(), buffer.size(), 0};
+    marvin_status s = call(&out);
+    if (s == MARVIN_ERR_TRUNCATED) {
+      buffer.assign(out.length + 1, '\0');
+      out = marvin_text_out{buffer.data(), buffer.size(), 0};
+      s = call(&out);
+    }
+    check(s);
+    buffer.resize(out.length);
+    return buffer;
+  }
+
+  const marvin_robot_api* api_;
+  marvin_host* host_;
+};
+
+// Base class of a C++ skill. Derive, implement handle(), register with MARVIN_SKILL.
+class Skill {
+ public:
+  explicit Skill(Robot robot) : robot_(robot) {}
+  virtual ~Skill() = default;
+  Skill(const Skill&) = delete;
+  Skill& operator=(const Skill&) = delete;
+
+  // Acts on one request; throw to fail (see the top of this file).
+  virtual void handle(const Request& request) = 0;
+
+ protected:
+  Robot& robot() { return robot_; }
+
+ private:
+  Robot robot_;
+};
+
+namespace detail {
+
+inline void write_error(marvin_text_out* out, const char* text) {
+  if (!out) return;
+  std::size_t length = std::strlen(text);
+  out->length = length;
+  if (!out->data || out->capacity == 0) return;
+  std::size_t n = length < out->capacity - 1 ? length : out->capacity - 1;
+  std::memcpy(out->data, text, n);
+  out->data[n] = '\0';
+}
+
+template <class S>
+void* create(const marvin_robot_api* api, marvin_host* host, marvin_text_out* error) {
+  try {
+    return new S(Robot(api, host));
+  } catch (const std::exception& e) {
+    write_error(error, e.what());
+  } catch (...) {
+    write_error(error, "unknown exception in the skill's constructor");
+  }
+  return nullptr;
+}
+
+template <class S>
+void destroy(void* instance) {
+  try {
+    delete static_cast<S*>(instance);
+  } catch (...) {
+    // A destructor that throws cannot be reported anywhere useful; swallowing it keeps the
+    // exception from crossing the C ABI.
+  }
+}
+
+template <class S>
+marvin_status handle(void* instance, const marvin_request* request, marvin_text_out* error) {
+  try {
+    if (!instance || !request || !request->intent) {
+      write_error(error, "no instance or request");
+      return MARVIN_ERR_INVALID;
+    }
+    Request r;
+    r.intent = request->intent;
+    r.slots = request->slots_json && *request->slots_json
+                  ? nlohmann::json::parse(request->slots_json)
+                  : nlohmann::json::object();
+    r.utterance = request->utterance ? request->utterance : "";
+    static_cast<S*>(instance)->handle(r);
+    return MARVIN_OK;
+  } catch (const Error& e) {
+    write_error(error, e.what());
+    return e.status() == MARVIN_OK ? MARVIN_ERR_INTERNAL : e.status();
+  } catch (const std::exception& e) {
+    write_error(error, e.what());
+  } catch (...) {
+    write_error(error, "unknown exception in the skill");
+  }
+  return MARVIN_ERR_INTERNAL;
+}
+
+}  // namespace detail
+
+// The descriptor of skill class S with id `skill_id`. Use it directly to hand a skill
+// compiled into a test to the SkillHarness; MARVIN_SKILL exports it. The descriptor lives
+// as long as the process; asking again for the same class and id returns the same one.
+template <class S>
+const marvin_skill_descriptor* skill_descriptor(const char* skill_id) {
+  static std::mutex mutex;
+  static std::map<std::string, marvin_skill_descriptor> by_id;  // nodes never move
+  std::lock_guard<std::mutex> lock(mutex);
+  auto it = by_id.find(skill_id);
+  if (it == by_id.end()) {
+    it = by_id.emplace(skill_id, marvin_skill_descriptor{}).first;
+    it->second = marvin_skill_descriptor{sizeof(marvin_skill_descriptor),
+                                         MARVIN_ABI_MAJOR,
+                                         MARVIN_ABI_MINOR,
+                                         it->first.c_str(),
+                                         &detail::create<S>,
+                                         &detail::destroy<S>,
+                                         &detail::handle<S>};
+  }
+  return &it->second;
+}
+
+}  // namespace marvin
+
+// Exports skill class `SkillClass` with id `skill_id` (must equal "id" in skill.json).
+// Use once per shared library, at namespace scope.
+#define MARVIN_SKILL(SkillClass, skill_id)                                                    \
+  extern "C" MARVIN_EXPORT const marvin_skill_descriptor* marvin_get_skill_descriptor(void) { \
+    return ::marvin::skill_descriptor<SkillClass>(skill_id);                                  \
+  }
+
+#endif  // MARVIN_SKILL_HPP_

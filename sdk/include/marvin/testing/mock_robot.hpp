@@ -1,0 +1,84 @@
+// marvin::testing::MockRobot: a robot in memory for skills' unit tests.
+//
+// It implements the whole Robot API table (marvin/robot.h) with the host's own code, so
+// permission checks, error sentences and the JSON formats are exactly the robot's, but
+// with no hardware: what the skill says and does is recorded, ask() is answered from a
+// queue of scripted answers, the clock and time zone are what the test sets, moves
+// return at once, and schedules, contacts and storage live in memory.
+//
+//   marvin::testing::MockRobot robot("dice", {"storage"});
+//   robot.add_answer("three");
+//   marvin::Robot r(robot.api(), robot.host());   // hand these to the skill under test
+//   ...
+//   CHECK(robot.said() == std::vector<std::string>{"How many?", "You rolled 7."});
+//
+// Not thread-safe: one test thread drives it (the SkillHarness runs everything inline).
+// Link MarvinSDK::testing.
+#ifndef MARVIN_TESTING_MOCK_ROBOT_HPP_
+#define MARVIN_TESTING_MOCK_ROBOT_HPP_
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "marvin/robot.h"
+
+namespace marvin::testing {
+
+class SkillHarness;
+
+class MockRobot {
+ public:
+  // A robot lending its table to skill `skill_id` with `permissions` (see robot.h;
+  // "speech" is implicit). Clock: 2026-01-05 09:00 UTC (a Monday); time zone "UTC".
+  explicit MockRobot(std::string skill_id = "test", std::vector<std::string> permissions = {});
+  ~MockRobot();
+  MockRobot(const MockRobot&) = delete;
+  MockRobot& operator=(const MockRobot&) = delete;
+
+  // The table and the context to hand to the skill. Valid while the MockRobot lives.
+  const marvin_robot_api* api() const;
+  marvin_host* host();
+
+  // --- what the test sets up --------------------------------------------------------
+  void set_permissions(std::vector<std::string> permissions);
+  // Queues the user's answer to the next question; ask() with an empty queue returns
+  // MARVIN_ERR_CANCELLED (as if the user had said "stop").
+  void add_answer(std::string answer);
+  void set_now(std::int64_t unix_ms);
+  void set_time_zone(std::string iana_name);
+  void set_scan(std::vector<marvin_scan_point> points);
+  // As if the user said "stop": is_cancelled() becomes true, ask() and move() cancel.
+  void cancel();
+  // Adds a contact the skill can find; returns its id.
+  std::int64_t add_contact(const std::string& name, std::vector<std::string> aliases = {},
+                           std::vector<std::string> phone_numbers = {});
+
+  // --- what the skill did ----------------------------------------------------------
+  // Every sentence spoken, questions included, in order.
+  const std::vector<std::string>& said() const;
+  // The questions asked (also in said()).
+  const std::vector<std::string>& asked() const;
+  // Body actions in order: "light executing", "move forward speed=120 ms=1500", "stop",
+  // "tilt_head 20".
+  const std::vector<std::string>& actions() const;
+  // Scripted answers not used yet.
+  std::size_t answers_left() const;
+  // Reminders the skill created, as JSON text in the README's format, soonest first.
+  std::vector<std::string> reminders() const;
+  // The skill's stored value under `key`.
+  std::optional<std::string> stored(const std::string& key) const;
+  // Forgets said(), asked() and actions().
+  void clear();
+
+ private:
+  friend class SkillHarness;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace marvin::testing
+
+#endif  // MARVIN_TESTING_MOCK_ROBOT_HPP_

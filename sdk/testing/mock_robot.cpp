@@ -1,0 +1,111 @@
+#include "marvin/testing/mock_robot.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "mock_robot_impl.h"
+#include "skills/api_json.h"
+
+namespace marvin::testing {
+
+MockRobot::Impl::Impl(std::string id, std::vector<std::string> permissions)
+    : skill_id(std::move(id)) {
+  services.data = &data;
+  services.body = this;
+  services.user = this;
+  services.now_ms = [this] { return now_ms; };
+  services.time_zone = "UTC";
+  services.wait_for_motion = false;
+  context = std::make_unique<skills::SkillContext>(skill_id, std::move(permissions), services);
+}
+
+void MockRobot::Impl::move(devices::Direction direction, std::uint8_t speed,
+                           std::chrono::milliseconds duration) {
+  static const char* names[] = {"forward", "backward", "left", "right"};
+  actions.push_back(std::string("move ") + names[static_cast<int>(direction)] +
+                    " speed=" + std::to_string(speed) + " ms=" + std::to_string(duration.count()));
+}
+void MockRobot::Impl::stop() { actions.push_back("stop"); }
+void MockRobot::Impl::tilt_head(int degrees) {
+  actions.push_back("tilt_head " + std::to_string(degrees));
+}
+std::vector<devices::ScanPoint> MockRobot::Impl::latest_scan() {
+  // The host converts body (steady clock) stamps to the wall clock; hand it points that
+  // come out as the test set them.
+  std::int64_t steady_now = std::chrono::duration_cast<std::chrono::milliseconds>(
+                                std::chrono::steady_clock::now().time_since_epoch())
+                                .count();
+  std::vector<devices::ScanPoint> out;
+  for (const auto& p : scan) {
+    out.push_back(devices::ScanPoint{p.angle_deg, p.distance_m, steady_now - (now_ms - p.time_ms)});
+  }
+  return out;
+}
+void MockRobot::Impl::set_light(devices::Light light) {
+  static const char* names[] = {"off", "awaiting", "listening", "executing"};
+  actions.push_back(std::string("light ") + names[static_cast<int>(light)]);
+}
+
+void MockRobot::Impl::say(std::string_view text) { said.emplace_back(text); }
+
+std::optional<std::string> MockRobot::Impl::ask(std::string_view question) {
+  said.emplace_back(question);
+  asked.emplace_back(question);
+  if (answers.empty()) return std::nullopt;
+  std::string answer = std::move(answers.front());
+  answers.pop_front();
+  return answer;
+}
+
+MockRobot::MockRobot(std::string skill_id, std::vector<std::string> permissions)
+    : impl_(std::make_unique<Impl>(std::move(skill_id), std::move(permissions))) {}
+MockRobot::~MockRobot() = default;
+
+const marvin_robot_api* MockRobot::api() const { return skills::host_robot_api(); }
+marvin_host* MockRobot::host() { return impl_->context->host(); }
+
+void MockRobot::set_permissions(std::vector<std::string> permissions) {
+  impl_->context->set_permissions(std::move(permissions));
+}
+void MockRobot::add_answer(std::string answer) { impl_->answers.push_back(std::move(answer)); }
+void MockRobot::set_now(std::int64_t unix_ms) { impl_->now_ms = unix_ms; }
+void MockRobot::set_time_zone(std::string iana_name) {
+  impl_->services.time_zone = std::move(iana_name);
+}
+void MockRobot::set_scan(std::vector<marvin_scan_point> points) { impl_->scan = std::move(points); }
+void MockRobot::cancel() { impl_->context->cancel(); }
+
+std::int64_t MockRobot::add_contact(const std::string& name, std::vector<std::string> aliases,
+                                    std::vector<std::string> phone_numbers) {
+  data::Contact c;
+  c.name = name;
+  c.aliases = std::move(aliases);
+  c.phone_numbers = std::move(phone_numbers);
+  return impl_->data.add_contact(c);
+}
+
+const std::vector<std::string>& MockRobot::said() const { return impl_->said; }
+const std::vector<std::string>& MockRobot::asked() const { return impl_->asked; }
+const std::vector<std::string>& MockRobot::actions() const { return impl_->actions; }
+std::size_t MockRobot::answers_left() const { return impl_->answers.size(); }
+
+std::vector<std::string> MockRobot::reminders() const {
+  std::vector<std::string> out;
+  for (const auto& r : impl_->data.reminders_between(std::numeric_limits<std::int64_t>::min(),
+                                                     std::numeric_limits<std::int64_t>::max())) {
+    out.push_back(skills::reminder_to_json(r).dump());
+  }
+  return out;
+}
+
+std::optional<std::string> MockRobot::stored(const std::string& key) const {
+  return impl_->data.storage_get(impl_->skill_id, key);
+}
+
+void MockRobot::clear() {
+  impl_->said.clear();
+  impl_->asked.clear();
+  impl_->actions.clear();
+}
+
+}  // namespace marvin::testing

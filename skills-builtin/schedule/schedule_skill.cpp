@@ -1,0 +1,340 @@
+// Built-in skill "schedule": reminders and contacts by voice.
+//   "remind me to take my pills at 8 pm"           -> a one-off reminder
+//   "remind me every day at 9 to water the plants" -> a recurring one
+//   "what's on my schedule tomorrow"               -> that day's reminders, recurring included
+//   "cancel the pill reminder"                     -> cancels the one reminder that matches
+//   "add a contact"                                -> asks name and number
+//   "what is Anna's number"
+// Every acknowledgement is spoken only after the Robot API call returned, and the host
+// returns from schedule_add / contacts_add / schedule_remove only once the change is
+// committed durably (core/data): "OK" always means stored.
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <date/date.h>
+#include <date/tz.h>
+#include <marvin/skill.hpp>
+
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kWeekdayNames[] = {"monday", "tuesday", "wednesday", "thursday",
+                                         "friday", "saturday", "sunday"};
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::vector<std::string> words_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::string word;
+  for (char c : text + " ") {
+    if (c == ' ') {
+      if (!word.empty()) out.push_back(word);
+      word.clear();
+    } else {
+      word += c;
+    }
+  }
+  return out;
+}
+
+// "take my pills" said by the owner is "take your pills" said back.
+std::string second_person(const std::string& text) {
+  std::string out;
+  for (const std::string& w : words_of(text)) {
+    std::string t = w;
+    if (w == "my" || w == "our") t = "your";
+    else if (w == "me" || w == "i") t = "you";
+    else if (w == "myself") t = "yourself";
+    else if (w == "i'm") t = "you're";
+    else if (w == "mine") t = "yours";
+    if (!out.empty()) out += ' ';
+    out += t;
+  }
+  return out;
+}
+
+// "anna schmidt" -> "Anna Schmidt" (the interpreter hands text slots in lower case).
+std::string capitalised(const std::string& text) {
+  std::string out = text;
+  bool start = true;
+  for (char& c : out) {
+    if (start) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    start = c == ' ' || c == '-';
+  }
+  return out;
+}
+
+// "0171 5550101" -> "0 1 7 1, 5 5 5 0 1 0 1": digits one by one, groups kept, for speech.
+std::string spoken_number(const std::string& number) {
+  std::string out;
+  for (char c : number) {
+    if (std::isdigit(static_cast<unsigned char>(c))) {
+      if (!out.empty() && out.back() != ' ') out += ' ';
+      out += c;
+    } else if (c == '+') {
+      out += "plus ";
+    } else if (c == ' ' && !out.empty() && out.back() != ',') {
+      out += ',';
+    }
+  }
+  return out;
+}
+
+struct LocalTime {
+  date::local_days day;
+  int minute_of_day = 0;
+};
+
+// "YYYY-MM-DDTHH:MM" -> day and minute; throws if malformed (a host bug, not the user's).
+LocalTime parse_local(const std::string& text) {
+  int y = 0, mo = 0, d = 0, h = 0, mi = 0;
+  if (std::sscanf(text.c_str(), "%d-%d-%dT%d:%d", &y, &mo, &d, &h, &mi) != 5)
+    throw std::runtime_error("unexpected local time '" + text + "' from the host");
+  const auto ymd = date::year{y} / date::month{static_cast<unsigned>(mo)} /
+                   date::day{static_cast<unsigned>(d)};
+  return {date::local_days{ymd}, h * 60 + mi};
+}
+
+// 20:00 -> "8 PM", 07:30 -> "7:30 AM".
+std::string spoken_time(int minute_of_day) {
+  const int hour = minute_of_day / 60, minute = minute_of_day % 60;
+  const int hour12 = hour % 12 == 0 ? 12 : hour % 12;
+  std::string out = std::to_string(hour12);
+  if (minute != 0) out += (minute < 10 ? ":0" : ":") + std::to_string(minute);
+  return out + (hour < 12 ? " AM" : " PM");
+}
+
+unsigned monday_based(date::local_days day) { return (date::weekday{day}.c_encoding() + 6) % 7; }
+
+std::string capital(std::string s) {
+  if (!s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));
+  return s;
+}
+
+// "today", "tomorrow" or "on Monday, 7 December".
+std::string spoken_day(date::local_days day, date::local_days today) {
+  if (day == today) return "today";
+  if (day == today + date::days{1}) return "tomorrow";
+  const date::year_month_day ymd{day};
+  return "on " + capital(kWeekdayNames[monday_based(day)]) + ", " +
+         std::to_string(static_cast<unsigned>(ymd.day())) + " " + date::format("%B", ymd.month());
+}
+
+std::string join_and(const std::vector<std::string>& parts) {
+  std::string out;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (i > 0) out += i + 1 == parts.size() ? " and " : ", ";
+    out += parts[i];
+  }
+  return out;
+}
+
+std::vector<std::string> weekdays_of(const json& recurrence) {
+  std::vector<std::string> out;
+  if (auto it = recurrence.find("weekdays"); it != recurrence.end() && it->is_array())
+    for (const json& d : *it) out.push_back(d.get<std::string>());
+  return out;
+}
+
+// "every day at 9 AM", "every weekday at 7:30 AM", "every Monday and Thursday at 10 AM",
+// "every 2 hours", or "" for a one-off reminder.
+std::string spoken_recurrence(const json& recurrence, int minute_of_day) {
+  const std::string kind = recurrence.value("kind", "once");
+  const std::string at = " at " + spoken_time(minute_of_day);
+  if (kind == "daily") return "every day" + at;
+  if (kind == "weekdays") return "every weekday" + at;
+  if (kind == "weekly") {
+    std::vector<std::string> days;
+    for (const std::string& d : weekdays_of(recurrence)) days.push_back(capital(d));
+    return "every " + join_and(days) + at;
+  }
+  if (kind == "interval") {
+    std::int64_t minutes = recurrence.value("every_minutes", std::int64_t{0});
+    if (minutes == 0) minutes = recurrence.value("every_seconds", std::int64_t{0}) / 60;
+    if (minutes % 60 == 0)
+      return minutes == 60 ? "every hour" : "every " + std::to_string(minutes / 60) + " hours";
+    return "every " + std::to_string(minutes) + " minutes";
+  }
+  return "";
+}
+
+class ScheduleSkill : public marvin::Skill {
+ public:
+  using marvin::Skill::Skill;
+
+  void handle(const marvin::Request& request) override {
+    if (request.intent == "remind") return remind(request);
+    if (request.intent == "agenda") return agenda(parse_local(request.slots.at("when").at("at")).day);
+    if (request.intent == "agenda_today") return agenda(today());
+    if (request.intent == "cancel") return cancel(request.slots.at("task").get<std::string>());
+    if (request.intent == "add_contact") return add_contact(request);
+    if (request.intent == "contact_number") return contact_number(request.slots.at("name").get<std::string>());
+    throw marvin::Error(MARVIN_ERR_INVALID, "unknown intent '" + request.intent + "'");
+  }
+
+ private:
+  date::local_days today() {
+    const auto now = date::sys_time<std::chrono::milliseconds>{std::chrono::milliseconds{robot().now_ms()}};
+    const date::time_zone* zone = date::locate_zone(robot().time_zone());
+    return date::floor<date::days>(zone->to_local(now));
+  }
+
+  void remind(const marvin::Request& request) {
+    const std::string task = request.slots.at("task").get<std::string>();
+    const json& when = request.slots.at("when");
+    json reminder = {{"title", task}, {"at", when.at("at")}};
+    if (when.contains("time_zone")) reminder["time_zone"] = when["time_zone"];
+    if (when.contains("recurrence")) reminder["recurrence"] = when["recurrence"];
+    // Returns once the reminder is durably stored; only then do we say OK.
+    const json created = robot().schedule_add(reminder);
+    const LocalTime at = parse_local(created.at("at").get<std::string>());
+    const json recurrence = created.value("recurrence", json::object());
+    std::string when_text = spoken_recurrence(recurrence, at.minute_of_day);
+    if (when_text.empty() || recurrence.value("kind", "once") == "interval") {
+      const std::string first = spoken_day(at.day, today()) + " at " + spoken_time(at.minute_of_day);
+      when_text = when_text.empty() ? first : when_text + ", starting " + first;
+    }
+    robot().say("OK, I'll remind you to " + second_person(task) + " " + when_text + ".");
+  }
+
+  struct Entry {
+    int minute_of_day;
+    std::string text;
+  };
+
+  // The reminders that fire on local `day`: one-off ones on that day, and recurring ones
+  // whose rule includes the day (from their next occurrence on).
+  void agenda(date::local_days day) {
+    const json all = robot().schedule_list(0, std::numeric_limits<std::int64_t>::max());
+    std::vector<Entry> entries;
+    for (const json& r : all) {
+      const LocalTime next = parse_local(r.at("at").get<std::string>());
+      if (next.day > day) continue;
+      const json recurrence = r.value("recurrence", json::object());
+      const std::string kind = recurrence.value("kind", "once");
+      const std::string title = second_person(r.value("title", ""));
+      const std::vector<std::string> days = weekdays_of(recurrence);
+      const bool day_listed = days.empty() || std::find(days.begin(), days.end(),
+                                                         kWeekdayNames[monday_based(day)]) != days.end();
+      if (kind == "once") {
+        if (next.day == day) entries.push_back({next.minute_of_day, title + " at " + spoken_time(next.minute_of_day)});
+      } else if (kind == "daily" || (kind == "weekdays" && monday_based(day) < 5) ||
+                 (kind == "weekly" && day_listed)) {
+        entries.push_back({next.minute_of_day, title + " at " + spoken_time(next.minute_of_day)});
+      } else if (kind == "interval" && day_listed) {
+        entries.push_back({next.day == day ? next.minute_of_day : 0,
+                           title + " " + spoken_recurrence(recurrence, next.minute_of_day)});
+      }
+    }
+    std::stable_sort(entries.begin(), entries.end(),
+                     [](const Entry& a, const Entry& b) { return a.minute_of_day < b.minute_of_day; });
+    const std::string when = spoken_day(day, today());
+    if (entries.empty()) {
+      robot().say("You have nothing on your schedule " + when + ".");
+      return;
+    }
+    std::vector<std::string> texts;
+    for (const Entry& e : entries) texts.push_back(e.text);
+    robot().say(capital(when) + ": " + join_and(texts) + ".");
+  }
+
+  void cancel(const std::string& task) {
+    std::vector<std::string> wanted;
+    for (std::string w : words_of(lower(task))) {
+      if (w == "the" || w == "my" || w == "a" || w == "an" || w == "reminder" || w == "to") continue;
+      if (w.size() > 3 && w.back() == 's') w.pop_back();  // "pills" finds "pill" and back
+      wanted.push_back(w);
+    }
+    const json all = robot().schedule_list(0, std::numeric_limits<std::int64_t>::max());
+    std::vector<json> hits;
+    for (const json& r : all) {
+      const std::string title = lower(r.value("title", ""));
+      if (!wanted.empty() && std::all_of(wanted.begin(), wanted.end(), [&](const std::string& w) {
+            return title.find(w) != std::string::npos;
+          }))
+        hits.push_back(r);
+    }
+    if (hits.empty()) {
+      robot().say("I couldn't find a reminder about " + second_person(task) + ".");
+      return;
+    }
+    if (hits.size() > 1) {
+      std::vector<std::string> titles;
+      for (const json& r : hits) {
+        const LocalTime at = parse_local(r.at("at").get<std::string>());
+        titles.push_back(second_person(r.value("title", "")) + " at " + spoken_time(at.minute_of_day));
+      }
+      const std::string answer = lower(robot().ask(
+          "I found " + std::to_string(hits.size()) + " reminders: " + join_and(titles) +
+          ". Should I cancel all of them?"));
+      if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please do") {
+        robot().say("OK, I kept them.");
+        return;
+      }
+    }
+    for (const json& r : hits) robot().schedule_remove(r.at("id").get<std::int64_t>());
+    robot().say(hits.size() == 1
+                    ? "OK, I cancelled the reminder to " + second_person(hits[0].value("title", "")) + "."
+                    : "OK, I cancelled all " + std::to_string(hits.size()) + " reminders.");
+  }
+
+  void add_contact(const marvin::Request& request) {
+    const std::string name = capitalised(request.slots.at("name").get<std::string>());
+    const std::string heard = request.slots.at("number").get<std::string>();
+    std::string number;
+    int digits = 0;
+    for (const std::string& w : words_of(lower(heard))) {
+      if (w == "plus" && number.empty()) {
+        number = "+";
+        continue;
+      }
+      for (char c : w) {
+        if (std::isdigit(static_cast<unsigned char>(c))) {
+          number += c;
+          ++digits;
+        } else if (c == '+' && number.empty()) {
+          number += c;
+        }
+      }
+      number += ' ';  // keep the groups the user spoke
+    }
+    while (!number.empty() && number.back() == ' ') number.pop_back();
+    if (digits < 3) {
+      robot().say("Sorry, \"" + heard + "\" doesn't sound like a phone number. I didn't add " + name + ".");
+      return;
+    }
+    robot().contacts_add({{"name", name}, {"phone_numbers", {number}}});
+    robot().say("OK, I added " + name + " with the number " + spoken_number(number) + ".");
+  }
+
+  void contact_number(std::string name) {
+    if (name.size() > 2 && name.compare(name.size() - 2, 2, "'s") == 0) name.resize(name.size() - 2);
+    const json found = robot().contacts_find(name);
+    if (found.empty()) {
+      robot().say("I don't have a contact called " + capitalised(name) + ".");
+      return;
+    }
+    std::vector<std::string> parts;
+    for (const json& c : found) {
+      const std::string full = c.value("name", "");
+      const json numbers = c.value("phone_numbers", json::array());
+      if (numbers.empty()) parts.push_back("I don't have a number for " + full);
+      else parts.push_back(full + "'s number is " + spoken_number(numbers[0].get<std::string>()));
+    }
+    robot().say(join_and(parts) + ".");
+  }
+};
+
+}  // namespace
+
+MARVIN_SKILL(ScheduleSkill, "schedule")

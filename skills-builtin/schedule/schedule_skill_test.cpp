@@ -1,0 +1,112 @@
+// The schedule skill's conversations on a MockRobot: Monday 2026-01-05, 10:00 in Berlin.
+#include <doctest/doctest.h>
+
+#include <dlfcn.h>
+
+#include <nlohmann/json.hpp>
+
+#include <marvin/skill.h>
+#include <marvin/testing/mock_robot.hpp>
+#include <marvin/testing/skill_harness.hpp>
+
+using Lines = std::vector<std::string>;
+using nlohmann::json;
+
+namespace {
+
+// The MockRobot's clock starts at 2026-01-05T09:00Z, a Monday.
+void berlin(marvin::testing::SkillHarness& h) { h.robot().set_time_zone("Europe/Berlin"); }
+
+std::vector<json> reminders(marvin::testing::SkillHarness& h) {
+  std::vector<json> out;
+  for (const std::string& text : h.robot().reminders()) out.push_back(json::parse(text));
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("remind me to take my pills at 8 pm: stored, then acknowledged") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  CHECK(h.say("remind me to take my pills at 8 pm") ==
+        Lines{"OK, I'll remind you to take your pills today at 8 PM."});
+  const auto stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["title"] == "take my pills");
+  CHECK(stored[0]["at"] == "2026-01-05T20:00");
+  CHECK(stored[0]["time_zone"] == "Europe/Berlin");
+}
+
+TEST_CASE("remind me every day at 9 to water the plants; what's on my schedule") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  CHECK(h.say("remind me every day at 9 to water the plants") ==
+        Lines{"OK, I'll remind you to water the plants every day at 9 AM."});
+  const auto stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["recurrence"]["kind"] == "daily");
+  CHECK(stored[0]["at"] == "2026-01-06T09:00");  // 9 today has passed
+  h.say("remind me to take my pills at 8 pm");
+  CHECK(h.say("what's on my schedule tomorrow") == Lines{"Tomorrow: water the plants at 9 AM."});
+  CHECK(h.say("what's on my schedule") == Lines{"Today: take your pills at 8 PM."});
+}
+
+TEST_CASE("cancel the pill reminder: only the matching one goes") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  h.say("remind me to take my pills at 8 pm");
+  h.say("remind me every day at 9 to water the plants");
+  CHECK(h.say("cancel the pill reminder") ==
+        Lines{"OK, I cancelled the reminder to take your pills."});
+  const auto stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["title"] == "water the plants");
+  CHECK(h.say("cancel the pill reminder") == Lines{"I couldn't find a reminder about pill."});
+  CHECK(reminders(h).size() == 1);
+}
+
+TEST_CASE("add a contact asks name and number; what is Anna's number") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  CHECK(h.say("add a contact", {"Anna Schmidt", "0171 555 0101"}) ==
+        Lines{"What is the contact's name?", "What is their phone number?",
+              "OK, I added Anna Schmidt with the number 0 1 7 1, 5 5 5, 0 1 0 1."});
+  CHECK(h.say("what is anna schmidt's number") ==
+        Lines{"Anna Schmidt's number is 0 1 7 1, 5 5 5, 0 1 0 1."});
+  h.robot().add_contact("Bob Meyer", {"Bob"}, {"+49 30 1234"});
+  CHECK(h.say("what is Bob's number") == Lines{"Bob Meyer's number is plus 4 9, 3 0, 1 2 3 4."});
+  CHECK(h.say("what is Carla's number") == Lines{"I don't have a contact called Carla."});
+}
+
+TEST_CASE("a number that is not one is refused and nothing is added") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  const Lines said = h.say("add a contact", {"Bob", "banana"});
+  REQUIRE(said.size() == 3);
+  CHECK(said[2] == "Sorry, \"banana\" doesn't sound like a phone number. I didn't add Bob.");
+  CHECK(h.say("what is bob's number") == Lines{"I don't have a contact called Bob."});
+}
+
+TEST_CASE("no acknowledgement when the write is refused") {
+  // The built skill on a MockRobot that refuses schedule_add (no "schedule" permission):
+  // the request fails and nothing "OK" is said.
+  void* library = dlopen(SCHEDULE_SKILL_DIR "/skill.so", RTLD_NOW | RTLD_LOCAL);
+  REQUIRE(library != nullptr);
+  auto get = reinterpret_cast<marvin_skill_descriptor_fn>(dlsym(library, MARVIN_SKILL_DESCRIPTOR_SYMBOL));
+  REQUIRE(static_cast<bool>(get));
+  const marvin_skill_descriptor* d = get();
+  marvin::testing::MockRobot robot("schedule", {});
+  char error_text[512] = {};
+  marvin_text_out error{error_text, sizeof error_text, 0};
+  void* instance = d->create(robot.api(), robot.host(), &error);
+  REQUIRE(instance != nullptr);
+  const std::string slots =
+      R"({"task":"take my pills","when":{"at":"2026-01-05T20:00","time_zone":"UTC",)"
+      R"("recurrence":{"kind":"once"}}})";
+  const marvin_request request{sizeof(marvin_request), "remind", slots.c_str(),
+                               "remind me to take my pills at 8 pm"};
+  CHECK(d->handle(instance, &request, &error) == MARVIN_ERR_PERMISSION);
+  CHECK(std::string(error_text).find("schedule") != std::string::npos);
+  CHECK(robot.said().empty());
+  CHECK(robot.reminders().empty());
+  d->destroy(instance);
+  dlclose(library);
+}

@@ -1,0 +1,1 @@
+marvin.on("ping", function() marvin.say("pong") end)

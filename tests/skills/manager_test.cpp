@@ -1,0 +1,380 @@
+// The skill manager's dialogues: slot filling, confirmation, failures, no match, repeat,
+// and long tasks on the worker: "stop" interrupts them, time limits end them.
+#include "skills/manager.h"
+
+#include <doctest/doctest.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <marvin/skill.hpp>
+#include <mutex>
+#include <thread>
+
+#include "common/log.h"
+#include "skills/host_loop.h"
+#include "skills/in_memory_personal_data.h"
+
+using namespace marvin::skills;
+using Lines = std::vector<std::string>;
+using nlohmann::json;
+
+namespace {
+
+// --- skills compiled into this test -------------------------------------------------
+
+class Greeter : public marvin::Skill {
+ public:
+  using Skill::Skill;
+  void handle(const marvin::Request& r) override {
+    if (r.intent == "hello") robot().say("Hello, " + r.slots.at("name").get<std::string>() + "!");
+    if (r.intent == "chat")
+      robot().say("What is your favourite colour? " +
+                  robot().ask("Tell me your favourite colour."));
+  }
+};
+
+class Thrower : public marvin::Skill {
+ public:
+  using Skill::Skill;
+  void handle(const marvin::Request& r) override {
+    if (r.intent == "throw") throw std::runtime_error("the skill broke on purpose");
+    if (r.intent == "forbidden") robot().move(MARVIN_FORWARD, 100, std::chrono::milliseconds(10));
+  }
+};
+
+class Caller : public marvin::Skill {
+ public:
+  using Skill::Skill;
+  void handle(const marvin::Request& r) override {
+    robot().say("Calling " + r.slots.at("who").get<std::string>() + ".");
+  }
+};
+
+std::atomic<int> g_walks_cancelled{0};
+
+class Walker : public marvin::Skill {
+ public:
+  using Skill::Skill;
+  void handle(const marvin::Request& r) override {
+    if (r.intent == "walk") {
+      try {
+        robot().move(MARVIN_FORWARD, 80, std::chrono::minutes(10));
+      } catch (const marvin::Error& e) {
+        if (e.status() == MARVIN_ERR_CANCELLED) ++g_walks_cancelled;
+        throw;
+      }
+      robot().say("I'm back.");
+    } else if (r.intent == "errand") {
+      robot().say("Going to the " + robot().ask("Where to?") + ".");
+    }
+  }
+};
+
+Manifest manifest(const char* text) { return parse_manifest(json::parse(text), "test/skill.json"); }
+
+const char* kGreeter = R"({"id": "greeter", "name": "Greeter", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "intents": [
+   {"name": "hello", "templates": ["say hello [to {name}]"],
+    "slots": [{"name": "name", "type": "text", "required": true, "question": "Who should I greet?"}]},
+   {"name": "chat", "templates": ["let us chat"]}]})";
+const char* kThrower = R"({"id": "thrower", "name": "Thrower", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "intents": [
+   {"name": "throw", "templates": ["break something"]},
+   {"name": "forbidden", "templates": ["drive forward"]}]})";
+const char* kCaller = R"({"id": "caller", "name": "Caller", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "permissions": ["contacts"], "intents": [
+   {"name": "call", "templates": ["call {who}"], "confirm": true, "confirm_question": "Shall I call {who}?",
+    "slots": [{"name": "who", "type": "contact", "required": true, "question": "Whom should I call?"}]}]})";
+const char* kWalker = R"({"id": "walker", "name": "Walker", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "permissions": ["motion"], "intents": [
+   {"name": "walk", "templates": ["go for a walk"], "execution": "long", "time_limit_s": 600},
+   {"name": "errand", "templates": ["run an errand"], "execution": "long"}]})";
+const char* kSlowWalker =
+    R"({"id": "slow", "name": "Slow Walker", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "permissions": ["motion"], "intents": [
+   {"name": "walk", "templates": ["walk slowly"], "execution": "long", "time_limit_s": 1}]})";
+
+// --- the world around the manager ------------------------------------------------------
+
+// A body whose moves can be waited for.
+struct Body : marvin::devices::Body {
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<std::string> actions;
+  void add(std::string a) {
+    {
+      std::lock_guard lock(mutex);
+      actions.push_back(std::move(a));
+    }
+    changed.notify_all();
+  }
+  void move(marvin::devices::Direction, std::uint8_t, std::chrono::milliseconds) override {
+    add("move");
+  }
+  void stop() override { add("stop"); }
+  void tilt_head(int) override {}
+  std::vector<marvin::devices::ScanPoint> latest_scan() override { return {}; }
+  void set_light(marvin::devices::Light l) override {
+    add("light " + std::to_string(static_cast<int>(l)));
+  }
+  bool wait_for(const std::string& action) {
+    std::unique_lock lock(mutex);
+    return changed.wait_for(lock, std::chrono::seconds(30), [&] {
+      return std::find(actions.begin(), actions.end(), action) != actions.end();
+    });
+  }
+  std::vector<std::string> motions() {
+    std::lock_guard lock(mutex);
+    std::vector<std::string> out;
+    for (const auto& a : actions) {
+      if (a.rfind("light", 0) != 0) out.push_back(a);
+    }
+    return out;
+  }
+};
+
+// A user answering from a script, on the calling thread.
+struct ScriptedUser : User {
+  Lines said;
+  std::deque<std::string> answers;
+  void say(std::string_view text) override { said.emplace_back(text); }
+  std::optional<std::string> ask(std::string_view question) override {
+    said.emplace_back(question);
+    if (answers.empty()) return std::nullopt;
+    std::string a = answers.front();
+    answers.pop_front();
+    return a;
+  }
+};
+
+struct Fixture {
+  InMemoryPersonalData data;
+  Body body;
+  HostServices services;
+  Registry registry{services};
+  Fixture() {
+    services.data = &data;
+    services.body = &body;
+    services.now_ms = [] { return 1767603600000; };
+    registry.add_native(manifest(kGreeter), marvin::skill_descriptor<Greeter>("greeter"));
+    registry.add_native(manifest(kThrower), marvin::skill_descriptor<Thrower>("thrower"));
+    registry.add_native(manifest(kCaller), marvin::skill_descriptor<Caller>("caller"));
+    registry.add_native(manifest(kWalker), marvin::skill_descriptor<Walker>("walker"));
+    registry.add_native(manifest(kSlowWalker), marvin::skill_descriptor<Walker>("slow"));
+    marvin::data::Contact anna;
+    anna.name = "Anna";
+    data.add_contact(anna);
+  }
+};
+
+// The short-dialogue setup: manager with a scripted user on this thread.
+struct Dialogue : Fixture {
+  ScriptedUser user;
+  Manager manager{registry, user};
+  Dialogue() { services.user = &manager; }
+  Lines turn(const std::string& utterance, Lines answers = {}) {
+    for (auto& a : answers) user.answers.push_back(a);
+    std::size_t before = user.said.size();
+    manager.handle(utterance);
+    return Lines(user.said.begin() + static_cast<std::ptrdiff_t>(before), user.said.end());
+  }
+};
+
+// The threaded setup: the real host loop on its own thread, as in `marvin run`.
+struct Session : Fixture {
+  std::mutex mutex;
+  std::condition_variable changed;
+  Lines said;
+  HostLoop loop{[this](std::string_view text) {
+    {
+      std::lock_guard lock(mutex);
+      said.emplace_back(text);
+    }
+    changed.notify_all();
+  }};
+  Manager manager{registry, loop};
+  std::thread thread;
+  Session() {
+    services.user = &manager;
+    loop.attach(manager, registry.interpreter());
+    thread = std::thread([this] { loop.run(); });
+  }
+  ~Session() {
+    loop.close();
+    if (thread.joinable()) thread.join();
+  }
+  bool wait_said(const std::string& sentence) {
+    std::unique_lock lock(mutex);
+    return changed.wait_for(lock, std::chrono::seconds(30), [&] {
+      return std::find(said.begin(), said.end(), sentence) != said.end();
+    });
+  }
+  Lines finish() {
+    loop.close();
+    thread.join();
+    return said;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("two skills claiming one sentence are reported as a conflict") {
+  Fixture f;
+  CHECK(f.registry.conflicts().empty());
+  f.registry.add_native(
+      manifest(R"({"id": "other", "name": "Other", "version": "1.0.0", "kind": "native",
+    "host_api": {"min": "1.0"}, "intents": [{"name": "smash", "templates": ["break something"]}]})"),
+      marvin::skill_descriptor<Thrower>("other"));
+  Lines conflicts = f.registry.conflicts();
+  REQUIRE(conflicts.size() == 1);
+  CHECK(conflicts[0].find("break something") != std::string::npos);
+  CHECK(conflicts[0].find("thrower") != std::string::npos);
+  CHECK(conflicts[0].find("other") != std::string::npos);
+}
+
+TEST_CASE("a slot said in the utterance is not asked for") {
+  Dialogue d;
+  CHECK(d.turn("say hello to Peter") == Lines{"Hello, peter!"});
+}
+
+TEST_CASE("slot filling: the manifest's question, one re-ask, then a polite give-up") {
+  Dialogue d;
+  CHECK(d.turn("say hello", {"Peter"}) == Lines{"Who should I greet?", "Hello, peter!"});
+
+  CHECK(d.turn("call Anna", {"yes"}) == Lines{"Shall I call Anna?", "Calling Anna."});
+
+  // A contact that is not in the address book is a bad answer: asked again, then given up.
+  Dialogue e;
+  e.registry.add_native(
+      manifest(R"({"id": "caller2", "name": "Caller 2", "version": "1.0.0", "kind": "native",
+    "host_api": {"min": "1.0"}, "intents": [{"name": "ring", "templates": ["ring somebody"],
+     "slots": [{"name": "who", "type": "contact", "required": true, "question": "Whom should I ring?"}]}]})"),
+      marvin::skill_descriptor<Caller>("caller2"));
+  CHECK(e.turn("ring somebody", {"Zorro", "Anna"}) ==
+        Lines{"Whom should I ring?", "Sorry, I didn't get that. Whom should I ring?",
+              "Calling Anna."});
+  CHECK(e.turn("ring somebody", {"Zorro", "Batman"}) ==
+        Lines{"Whom should I ring?", "Sorry, I didn't get that. Whom should I ring?",
+              "Sorry, I still didn't understand. Let's leave it for now."});
+  CHECK(e.user.answers.empty());
+}
+
+TEST_CASE("confirmation: only yes goes ahead") {
+  Dialogue d;
+  CHECK(d.turn("call Anna", {"no"}) == Lines{"Shall I call Anna?", "OK, I won't."});
+  CHECK(
+      d.turn("call Anna", {"maybe", "yes"}) ==
+      Lines{"Shall I call Anna?", "Please answer yes or no. Shall I call Anna?", "Calling Anna."});
+  CHECK(d.turn("call Anna", {"maybe", "perhaps"}) ==
+        Lines{"Shall I call Anna?", "Please answer yes or no. Shall I call Anna?",
+              "I'll take that as a no."});
+  CHECK(d.turn("call Anna", {"stop"}) == Lines{"Shall I call Anna?", "OK."});
+}
+
+TEST_CASE("a skill that throws: logged, recorded, apologised for; the host goes on") {
+  Dialogue d;
+  std::vector<std::string> errors;
+  auto previous =
+      marvin::set_log_sink([&](marvin::LogLevel level, std::string_view, std::string_view message) {
+        if (level == marvin::LogLevel::kError) errors.emplace_back(message);
+      });
+  Lines said = d.turn("break something");
+  marvin::set_log_sink(previous);
+  CHECK(said == Lines{"Sorry, something went wrong with Thrower."});
+  REQUIRE(errors.size() == 1);
+  CHECK(errors[0] ==
+        "skill 'thrower' intent 'throw' failed (internal error): the skill broke on purpose");
+  REQUIRE(d.data.events().size() == 1);
+  CHECK(d.data.events()[0].kind == "skill_error");
+  CHECK(d.data.events()[0].source == "thrower");
+  CHECK(d.turn("say hello to Ann") == Lines{"Hello, ann!"});
+}
+
+TEST_CASE("a skill calling what it may not: apology, nothing moved, the reason in the log") {
+  Dialogue d;
+  std::vector<std::string> errors;
+  auto previous =
+      marvin::set_log_sink([&](marvin::LogLevel level, std::string_view, std::string_view message) {
+        if (level == marvin::LogLevel::kError) errors.emplace_back(message);
+      });
+  CHECK(d.turn("drive forward") == Lines{"Sorry, something went wrong with Thrower."});
+  marvin::set_log_sink(previous);
+  REQUIRE(errors.size() == 1);
+  CHECK(errors[0] ==
+        "skill 'thrower' intent 'forbidden' failed (permission denied): permission 'motion' "
+        "is not granted to skill 'thrower'");
+  CHECK(d.body.motions().empty());
+}
+
+TEST_CASE("no match gets a helpful sentence, never a guess; repeat says it again") {
+  Dialogue d;
+  Lines said = d.turn("sing me a song");
+  CHECK(said == Lines{"Sorry, I don't know how to help with that. You can ask me, for example: "
+                      "\"let us chat\"."});
+  CHECK(d.turn("repeat") == said);
+  CHECK(d.body.motions().empty());
+  CHECK(d.turn("yes") == Lines{"I wasn't asking anything. What can I do for you?"});
+}
+
+TEST_CASE("a short skill's question is answered on the host loop") {
+  Dialogue d;
+  CHECK(d.turn("let us chat", {"green"}) ==
+        Lines{"Tell me your favourite colour.", "What is your favourite colour? green"});
+  // No answer comes (end of input): the skill's ask is cancelled, nothing more is said.
+  CHECK(d.turn("let us chat") == Lines{"Tell me your favourite colour."});
+}
+
+TEST_CASE("stop interrupts a long skill: the motion stops, the task ends, OK is said") {
+  g_walks_cancelled = 0;
+  Session s;
+  s.loop.post("go for a walk");
+  REQUIRE(s.body.wait_for("move"));  // the walk is under way on the worker
+  CHECK(s.manager.busy());
+  s.loop.post("stop");
+  Lines said = s.finish();
+  CHECK(said == Lines{"OK, I stopped."});
+  CHECK(g_walks_cancelled == 1);
+  CHECK(s.body.motions() == Lines{"move", "stop"});
+  CHECK_FALSE(s.manager.busy());
+}
+
+TEST_CASE("while a long skill runs, the next request waits; stop still goes first") {
+  g_walks_cancelled = 0;
+  Session s;
+  s.loop.post("go for a walk");
+  REQUIRE(s.body.wait_for("move"));
+  s.loop.post("say hello to Bob");  // held: one conversation at a time
+  s.loop.post("stop");              // jumps ahead of the held request
+  REQUIRE(s.wait_said("Hello, bob!"));
+  Lines said = s.finish();
+  CHECK(said == Lines{"OK, I stopped.", "Hello, bob!"});
+  CHECK(g_walks_cancelled == 1);
+}
+
+TEST_CASE("a long skill's question is answered by the next utterance") {
+  Session s;
+  s.loop.post("run an errand");
+  REQUIRE(s.wait_said("Where to?"));
+  s.loop.post("kitchen");
+  REQUIRE(s.wait_said("Going to the kitchen."));
+  CHECK(s.finish() == Lines{"Where to?", "Going to the kitchen."});
+}
+
+TEST_CASE("stop during a long skill's question cancels it") {
+  Session s;
+  s.loop.post("run an errand");
+  REQUIRE(s.wait_said("Where to?"));
+  s.loop.post("cancel");
+  CHECK(s.finish() == Lines{"Where to?", "OK, I stopped."});
+}
+
+TEST_CASE("a long skill out of time is cancelled and the user told") {
+  g_walks_cancelled = 0;
+  Session s;
+  s.loop.post("walk slowly");  // time limit 1 s, the walk asks for 10 minutes
+  REQUIRE(s.wait_said("Sorry, that took too long, so I stopped."));
+  CHECK(s.finish() == Lines{"Sorry, that took too long, so I stopped."});
+  CHECK(g_walks_cancelled == 1);
+  CHECK(s.body.motions() == Lines{"move", "stop"});
+}

@@ -1,0 +1,49 @@
+// The built-in time skill, loaded from the build tree, with a fixed clock and time zone.
+#include <doctest/doctest.h>
+
+#include <marvin/testing/skill_harness.hpp>
+
+using Lines = std::vector<std::string>;
+
+namespace {
+
+// 2026-11-21T14:05:00Z, a Saturday.
+constexpr std::int64_t kSaturdayAfternoonUtc = 1795269900000;
+
+}  // namespace
+
+TEST_CASE("what time is it: the host's clock in the owner's time zone") {
+  marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
+  harness.robot().set_now(kSaturdayAfternoonUtc);
+  harness.robot().set_time_zone("Europe/Berlin");
+  CHECK(harness.say("What time is it?") == Lines{"It's 3:05 PM."});
+  harness.robot().set_time_zone("America/New_York");
+  CHECK(harness.say("tell me the time") == Lines{"It's 9:05 AM."});
+  harness.robot().set_time_zone("UTC");
+  CHECK(harness.say("what time is it now") == Lines{"It's 2:05 PM."});
+}
+
+TEST_CASE("what day is it: the local date, which may differ from UTC's") {
+  marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
+  harness.robot().set_now(kSaturdayAfternoonUtc);
+  harness.robot().set_time_zone("Europe/Berlin");
+  CHECK(harness.say("what day is it today") == Lines{"Today is Saturday, 21 November 2026."});
+  harness.robot().set_time_zone("Pacific/Kiritimati");  // UTC+14: already Sunday
+  CHECK(harness.say("what is the date") == Lines{"Today is Sunday, 22 November 2026."});
+}
+
+TEST_CASE("midnight and noon read as 12") {
+  marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
+  harness.robot().set_time_zone("UTC");
+  harness.robot().set_now(1795219200000);  // 2026-11-21T00:00Z
+  CHECK(harness.say("what time is it") == Lines{"It's 12:00 AM."});
+  harness.robot().set_now(1795219200000 + 12 * 3600 * 1000 + 9 * 60 * 1000);
+  CHECK(harness.say("what time is it") == Lines{"It's 12:09 PM."});
+}
+
+TEST_CASE("an unknown time zone falls back to UTC instead of failing") {
+  marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
+  harness.robot().set_now(kSaturdayAfternoonUtc);
+  harness.robot().set_time_zone("Mars/Olympus_Mons");
+  CHECK(harness.say("what time is it") == Lines{"It's 2:05 PM."});
+}
