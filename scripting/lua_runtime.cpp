@@ -3,7 +3,16 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "common/log.h"
+
 namespace marvin::scripting {
+
+void LuaSkillInstance::poll(std::int64_t now_ms) {
+  std::string error;
+  if (skill_->run_due_timers(now_ms, &error) != MARVIN_OK) {
+    log(LogLevel::kWarning, "lua", "skill '" + skill_->spec().id + "': timer: " + error);
+  }
+}
 
 SkillSpec LuaRuntime::spec_of(const skills::Manifest& manifest, const std::filesystem::path& dir) {
   SkillSpec spec;

@@ -25,7 +25,10 @@ class LuaSkillInstance : public skills::SkillInstance {
   marvin_status handle(const marvin_request& request, std::string* error) override {
     return skill_->handle(request, error);
   }
-  // For the host's timer loop (marvin.after) and the test runner.
+  // marvin.after timers, for the host loop.
+  std::optional<std::int64_t> next_timer_ms() override { return skill_->next_timer_ms(); }
+  void poll(std::int64_t now_ms) override;
+  // For the test runner.
   LuaSkill& skill() { return *skill_; }
 
  private:

@@ -3,7 +3,9 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <functional>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -21,6 +23,8 @@ struct RunOptions {
   bool no_builtin = false;
   std::string time_zone;
   std::string clock;
+  std::string data_dir;
+  bool in_memory = false;
   bool verbose = false;
 };
 
@@ -34,6 +38,8 @@ HostOptions host_options(const RunOptions& o) {
   HostOptions h;
   for (const auto& dir : o.skills_dirs) h.skills_dirs.emplace_back(dir);
   h.builtin_skills = !o.no_builtin;
+  h.in_memory_data = o.in_memory;
+  h.data_dir = o.data_dir;
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
     try {
@@ -45,13 +51,27 @@ HostOptions host_options(const RunOptions& o) {
   return h;
 }
 
+// The host, or a CliError (exit 1) when the personal data cannot be opened.
+std::unique_ptr<Host> open_host(const RunOptions& o,
+                                std::function<void(std::string_view)> write) {
+  HostOptions h = host_options(o);
+  try {
+    return std::make_unique<Host>(std::move(h), std::move(write));
+  } catch (const std::exception& e) {
+    throw CliError(std::string("cannot open the personal data: ") + e.what() +
+                       " (use --data-dir DIR, or --in-memory)",
+                   1);
+  }
+}
+
 void run_sim(const RunOptions& o) {
   if (!o.sim) {
     throw CliError("only the simulated robot is available in this build: use `marvin run --sim`",
                    2);
   }
   set_log_level(o.verbose ? LogLevel::kInfo : LogLevel::kWarning);
-  Host host(host_options(o), write_line);
+  std::unique_ptr<Host> host_ptr = open_host(o, write_line);
+  Host& host = *host_ptr;
   host.load();
   const bool interactive = isatty(STDIN_FILENO) != 0;
   if (interactive) {
@@ -70,13 +90,15 @@ void run_sim(const RunOptions& o) {
   });
   host.body().set_light(devices::Light::kAwaiting);
   host.manager().say("Hello, I'm Marvin.");
+  host.start_scheduler();
   host.loop().run();
   reader.join();
 }
 
 void list_skills(const RunOptions& o) {
   set_log_level(LogLevel::kError);
-  Host host(host_options(o), [](std::string_view) {});
+  std::unique_ptr<Host> host_ptr = open_host(o, [](std::string_view) {});
+  Host& host = *host_ptr;
   host.load();
   const auto& skills = host.registry().skills();
   if (skills.empty()) write_line("no skills loaded");
@@ -111,6 +133,12 @@ void add_skill_options(CLI::App& app, RunOptions& o) {
   app.add_option("--time-zone", o.time_zone, "The owner's IANA time zone (default: the system's)");
   app.add_option("--clock", o.clock,
                  "Stop the clock at this local time, YYYY-MM-DDTHH:MM (demos, tests)");
+  CLI::Option* data_dir = app.add_option("--data-dir", o.data_dir,
+                 "Personal data directory (default: $MARVIN_DATA_DIR, else "
+                 "$XDG_DATA_HOME/marvin, else ~/.local/share/marvin)");
+  app.add_flag("--in-memory", o.in_memory,
+               "Keep personal data in memory only (nothing is stored)")
+      ->excludes(data_dir);
 }
 
 void install_skill_platform_commands(CLI::App& root) {

@@ -2,6 +2,13 @@
 
 #include <date/tz.h>
 
+#include <atomic>
+#include <boost/asio/executor_work_guard.hpp>
+#include <boost/asio/io_context.hpp>
+#include <thread>
+
+#include "data/scheduler.h"
+
 #include "common/log.h"
 #ifdef MARVIN_HAVE_LUA
 #include "scripting/lua_runtime.h"
@@ -55,6 +62,85 @@ void ConsoleBody::set_light(devices::Light light) {
   console_.line(std::string("[light: ") + names[static_cast<int>(light)] + "]");
 }
 
+namespace {
+
+// Forwards to the real store and tells the scheduler when reminders changed.
+class NotifyingData final : public data::PersonalData {
+ public:
+  NotifyingData(data::PersonalData& inner, std::function<void()> changed)
+      : inner_(inner), changed_(std::move(changed)) {}
+
+  std::int64_t add_reminder(const data::Reminder& reminder) override {
+    std::int64_t id = inner_.add_reminder(reminder);
+    changed_();
+    return id;
+  }
+  std::vector<data::Reminder> reminders_between(std::int64_t from_utc_ms,
+                                                std::int64_t to_utc_ms) override {
+    return inner_.reminders_between(from_utc_ms, to_utc_ms);
+  }
+  std::vector<data::Reminder> list_reminders() override { return inner_.list_reminders(); }
+  std::optional<data::Reminder> get_reminder(std::int64_t id) override {
+    return inner_.get_reminder(id);
+  }
+  bool remove_reminder(std::int64_t id) override { return notify(inner_.remove_reminder(id)); }
+  bool snooze_reminder(std::int64_t id, std::int64_t until_utc_ms) override {
+    return notify(inner_.snooze_reminder(id, until_utc_ms));
+  }
+  bool complete_reminder(std::int64_t id) override {
+    return notify(inner_.complete_reminder(id));
+  }
+  std::int64_t add_contact(const data::Contact& contact) override {
+    return inner_.add_contact(contact);
+  }
+  std::vector<data::Contact> find_contacts(std::string_view name_or_alias) override {
+    return inner_.find_contacts(name_or_alias);
+  }
+  std::vector<data::Contact> list_contacts() override { return inner_.list_contacts(); }
+  bool remove_contact(std::int64_t id) override { return inner_.remove_contact(id); }
+  std::vector<data::Person> list_people() override { return inner_.list_people(); }
+  std::optional<std::string> storage_get(std::string_view skill_id,
+                                         std::string_view key) override {
+    return inner_.storage_get(skill_id, key);
+  }
+  void storage_set(std::string_view skill_id, std::string_view key,
+                   std::string_view value) override {
+    inner_.storage_set(skill_id, key, value);
+  }
+  bool storage_remove(std::string_view skill_id, std::string_view key) override {
+    return inner_.storage_remove(skill_id, key);
+  }
+  void log_event(std::string_view kind, std::string_view source,
+                 std::string_view message) override {
+    inner_.log_event(kind, source, message);
+  }
+
+ private:
+  bool notify(bool changed) {
+    if (changed) changed_();
+    return changed;
+  }
+  data::PersonalData& inner_;
+  std::function<void()> changed_;
+};
+
+}  // namespace
+
+struct Host::Reminders {
+  boost::asio::io_context io;
+  std::unique_ptr<data::Scheduler> scheduler;
+  std::optional<boost::asio::executor_work_guard<boost::asio::io_context::executor_type>> work;
+  std::thread thread;
+  std::atomic<bool> running{false};
+
+  ~Reminders() {
+    work.reset();
+    io.stop();
+    if (thread.joinable()) thread.join();
+    scheduler.reset();
+  }
+};
+
 std::filesystem::path builtin_skills_dir() { return MARVIN_BUILTIN_SKILLS_DIR; }
 
 std::string system_time_zone() {
@@ -67,7 +153,26 @@ std::string system_time_zone() {
 
 Host::Host(HostOptions options, std::function<void(std::string_view)> write_line)
     : options_(std::move(options)), console_(std::move(write_line)), body_(console_) {
-  services_.data = &data_;
+  if (options_.fixed_now_ms) {
+    clock_ = std::make_unique<data::ManualClock>(*options_.fixed_now_ms);
+  }
+  data::PersonalData* inner = nullptr;
+  if (options_.in_memory_data) {
+    memory_ = std::make_unique<skills::InMemoryPersonalData>();
+    inner = memory_.get();
+  } else {
+    data::StoreOptions store;
+    store.path = data::database_path(options_.data_dir.empty() ? data::default_data_dir()
+                                                               : options_.data_dir);
+    store.clock = clock_.get();
+    store_ = std::make_unique<data::SqliteStore>(std::move(store));
+    inner = store_.get();
+  }
+  reminders_ = std::make_unique<Reminders>();
+  data_ = std::make_unique<NotifyingData>(*inner, [this] {
+    if (reminders_->running.load()) reminders_->scheduler->reminders_changed();
+  });
+  services_.data = data_.get();
   services_.body = &body_;
   services_.time_zone = options_.time_zone.empty() ? system_time_zone() : options_.time_zone;
   if (options_.fixed_now_ms) {
@@ -85,15 +190,65 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   manager_ = std::make_unique<skills::Manager>(*registry_, *loop_);
   services_.user = manager_.get();
   loop_->attach(*manager_, registry_->interpreter());
+  // Skill timers (marvin.after) run on the loop, never while a long task runs.
+  loop_->set_timers(skills::HostLoop::Timers{
+      [this]() -> std::optional<std::int64_t> {
+        if (manager_->busy()) return std::nullopt;
+        std::optional<std::int64_t> next;
+        for (const auto& skill : registry_->skills()) {
+          if (!skill->instance) continue;
+          std::optional<std::int64_t> due = skill->instance->next_timer_ms();
+          if (due && (!next || *due < *next)) next = due;
+        }
+        return next;
+      },
+      [this](std::int64_t now) {
+        if (manager_->busy()) return;
+        for (const auto& skill : registry_->skills()) {
+          if (!skill->instance) continue;
+          std::optional<std::int64_t> due = skill->instance->next_timer_ms();
+          if (due && *due <= now) skill->instance->poll(now);
+        }
+      },
+      services_.now_ms});
 }
 
 Host::~Host() {
-  manager_.reset();   // joins a running task first
+  manager_.reset();    // joins a running task first
+  reminders_.reset();  // stops the scheduler's thread
   registry_.reset();  // then the skills go
 }
 
 void Host::add_runtime(std::unique_ptr<skills::SkillRuntime> runtime) {
   registry_->add_runtime(std::move(runtime));
+}
+
+std::filesystem::path Host::data_path() const {
+  return store_ ? store_->path() : std::filesystem::path();
+}
+
+void Host::start_scheduler() {
+  if (!store_ || reminders_->scheduler) return;
+  const data::Clock& clock =
+      clock_ ? *clock_ : static_cast<const data::Clock&>(data::SystemClock::instance());
+  reminders_->scheduler = std::make_unique<data::Scheduler>(
+      reminders_->io, *store_, clock, [this](const data::Firing& firing) {
+        loop_->say(firing.missed ? "You missed a reminder: " + firing.reminder.title
+                                 : "Reminder: " + firing.reminder.title);
+      });
+  // The io_context is not running yet, so this thread stands in for it: what was due
+  // while the host was off is said before the first utterance is taken.
+  data::StartupReport report = reminders_->scheduler->start();
+  if (!report.listed.empty()) {
+    std::string titles;
+    for (const data::MissedReminder& m : report.listed) {
+      titles += (titles.empty() ? "" : ", ") + m.reminder.title;
+    }
+    loop_->say("While I was off, you missed: " + titles);
+  }
+  reminders_->work.emplace(reminders_->io.get_executor());
+  reminders_->running.store(true);
+  reminders_->thread = std::thread([r = reminders_.get()] { r->io.run(); });
 }
 
 void Host::load() {

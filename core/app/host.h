@@ -1,6 +1,8 @@
 // The host wiring: the skill registry, the skill manager and the host loop, with the
 // Robot API served from personal data and a body. `marvin run --sim` uses the console
-// body below and in-memory personal data (until the SQLite store is wired in).
+// body below and the owner's SQLite store (data::SqliteStore), or in-memory personal data
+// when asked; with the store, the reminder Scheduler speaks due reminders through the
+// same output as the skills (start_scheduler()).
 #pragma once
 
 #include <cstdint>
@@ -14,6 +16,8 @@
 
 #include "devices/body.h"
 #include "skills/host_loop.h"
+#include "data/clock.h"
+#include "data/sqlite_store.h"
 #include "skills/in_memory_personal_data.h"
 #include "skills/manager.h"
 #include "skills/registry.h"
@@ -56,6 +60,10 @@ struct HostOptions {
   bool builtin_skills = true;
   std::string time_zone;                     // "" = the system's zone (UTC if unknown)
   std::optional<std::int64_t> fixed_now_ms;  // a stopped clock, for demos and tests
+  // Personal data: in memory (nothing survives), or the SQLite store in `data_dir`
+  // (empty: data::default_data_dir(), i.e. $MARVIN_DATA_DIR, else the XDG default).
+  bool in_memory_data = false;
+  std::filesystem::path data_dir;
 };
 
 // Where this build put its built-in skills (<build>/skills).
@@ -66,6 +74,7 @@ std::string system_time_zone();
 class Host {
  public:
   // Wires everything; `console` receives the transcript ("Marvin: ..." and body lines).
+  // Throws (naming the file) if the SQLite store cannot be opened (corrupt, newer schema).
   Host(HostOptions options, std::function<void(std::string_view)> write_line);
   ~Host();
 
@@ -73,6 +82,13 @@ class Host {
   void add_runtime(std::unique_ptr<skills::SkillRuntime> runtime);
   // Loads every skills directory. Errors are in registry().errors().
   void load();
+  // With the SQLite store: announces what became due while the host was off, then runs
+  // the reminder Scheduler on its own thread; due reminders are said through loop()
+  // ("Reminder: take my pills", "You missed a reminder: ..."). Call once, before
+  // loop().run(), on the thread that will run the loop. No-op with in-memory data.
+  void start_scheduler();
+  // The database file, or empty with in-memory data.
+  std::filesystem::path data_path() const;
 
   skills::Registry& registry() { return *registry_; }
   skills::Manager& manager() { return *manager_; }
@@ -83,7 +99,12 @@ class Host {
   HostOptions options_;
   Console console_;
   ConsoleBody body_;
-  skills::InMemoryPersonalData data_;
+  std::unique_ptr<skills::InMemoryPersonalData> memory_;
+  std::unique_ptr<data::SqliteStore> store_;
+  std::unique_ptr<data::Clock> clock_;
+  std::unique_ptr<data::PersonalData> data_;  // notifies the scheduler of reminder changes
+  struct Reminders;                           // the Scheduler and its io_context thread
+  std::unique_ptr<Reminders> reminders_;
   skills::HostServices services_;
   std::unique_ptr<skills::HostLoop> loop_;
   std::unique_ptr<skills::Registry> registry_;

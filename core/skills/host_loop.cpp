@@ -1,5 +1,7 @@
 #include "skills/host_loop.h"
 
+#include <chrono>
+
 namespace marvin::skills {
 
 HostLoop::HostLoop(std::function<void(std::string_view)> speak) : speak_(std::move(speak)) {}
@@ -13,6 +15,7 @@ void HostLoop::post(std::string utterance) {
   {
     std::lock_guard lock(mutex_);
     input_.push_back(std::move(utterance));
+    ++events_;
   }
   changed_.notify_all();
 }
@@ -21,6 +24,7 @@ void HostLoop::close() {
   {
     std::lock_guard lock(mutex_);
     closed_ = true;
+    ++events_;
   }
   changed_.notify_all();
 }
@@ -29,6 +33,7 @@ void HostLoop::interrupt() {
   {
     std::lock_guard lock(mutex_);
     interrupted_ = true;
+    ++events_;
   }
   changed_.notify_all();
 }
@@ -42,9 +47,36 @@ bool HostLoop::is_stop(const std::string& utterance) const {
   return interpreter_ && interpreter_->builtin(utterance) == interpret::Builtin::kStop;
 }
 
-std::optional<std::string> HostLoop::pop() {
+void HostLoop::run_due_timers() {
+  if (!timers_.next || !timers_.run || !timers_.now) return;
+  std::optional<std::int64_t> next = timers_.next();
+  if (!next) return;
+  std::int64_t now = timers_.now();
+  if (*next <= now) timers_.run(now);
+}
+
+std::optional<std::string> HostLoop::pop(bool run_timers) {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return !input_.empty() || closed_; });
+  if (run_timers && timers_.next && timers_.run && timers_.now) {
+    for (;;) {
+      // Due timers first (also when an utterance or the end of input is already here).
+      const std::uint64_t seen = events_;
+      lock.unlock();
+      run_due_timers();
+      std::optional<std::int64_t> next = timers_.next();
+      std::int64_t now = timers_.now();
+      lock.lock();
+      if (!input_.empty() || closed_) break;
+      auto woken = [&] { return events_ != seen; };
+      if (next) {
+        changed_.wait_for(lock, std::chrono::milliseconds(*next - now), woken);
+      } else {
+        changed_.wait(lock, woken);
+      }
+    }
+  } else {
+    changed_.wait(lock, [&] { return !input_.empty() || closed_; });
+  }
   if (input_.empty()) return std::nullopt;
   std::string line = std::move(input_.front());
   input_.pop_front();
@@ -90,7 +122,10 @@ std::optional<std::string> HostLoop::ask(std::string_view question) {
 }
 
 void HostLoop::task_finished() {
-  { std::lock_guard lock(mutex_); }
+  {
+    std::lock_guard lock(mutex_);
+    ++events_;
+  }
   changed_.notify_all();
 }
 
@@ -140,7 +175,7 @@ void HostLoop::route(std::string line) {
 
 void HostLoop::run() {
   loop_thread_ = std::this_thread::get_id();
-  while (std::optional<std::string> line = pop()) route(std::move(*line));
+  while (std::optional<std::string> line = pop(true)) route(std::move(*line));
   // End of input: a running task finishes (its questions get no answer).
   if (manager_) {
     while (!manager_->wait_idle(std::chrono::hours{1})) {

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <condition_variable>
+#include <cstdint>
 #include <deque>
 #include <functional>
 #include <mutex>
@@ -44,6 +45,17 @@ class HostLoop : public User {
   // piped input with it). Set before run().
   void on_heard(std::function<void(std::string_view)> heard) { heard_ = std::move(heard); }
 
+  // Skill timers (marvin.after). Between utterances, run() asks `next` when the next timer
+  // is due (host clock, Unix ms; nullopt: none, e.g. while a long task runs) and calls
+  // `run(now)` once `now()` has reached it. Timers due when an utterance arrives, or at
+  // end of input, run first; later ones are dropped at end of input. Set before run().
+  struct Timers {
+    std::function<std::optional<std::int64_t>()> next;
+    std::function<void(std::int64_t)> run;
+    std::function<std::int64_t()> now;
+  };
+  void set_timers(Timers timers) { timers_ = std::move(timers); }
+
   void post(std::string utterance);  // any thread
   void close();                      // end of input; any thread
   void run();                        // the host loop; returns after close() and the last task
@@ -54,13 +66,17 @@ class HostLoop : public User {
   void task_finished() override;
 
  private:
-  std::optional<std::string> pop();  // waits for an utterance; nullopt at end of input
+  // Waits for an utterance; nullopt at end of input. With `run_timers` (the loop's own
+  // wait, not a question's), due skill timers run while it waits.
+  std::optional<std::string> pop(bool run_timers = false);
+  void run_due_timers();  // mutex_ not held
   void route(std::string line);
   bool stop_queued() const;  // mutex_ held
   bool is_stop(const std::string& utterance) const;
 
   std::function<void(std::string_view)> speak_;
   std::function<void(std::string_view)> heard_;
+  Timers timers_;
   std::mutex speak_mutex_;
   Manager* manager_ = nullptr;
   const interpret::Interpreter* interpreter_ = nullptr;
@@ -74,6 +90,7 @@ class HostLoop : public User {
   bool question_pending_ = false;      // guarded by mutex_: a worker waits in ask()
   bool holding_ = false;               // guarded by mutex_: the loop holds an utterance
   std::optional<std::string> answer_;  // guarded by mutex_
+  std::uint64_t events_ = 0;           // guarded by mutex_: bumped by every notification
 };
 
 }  // namespace marvin::skills

@@ -1,5 +1,5 @@
-// PersonalData kept in memory: for tests, the SDK's MockRobot and `marvin run --sim`
-// until the SQLite store is wired in. Nothing survives the process. Thread-safe.
+// PersonalData kept in memory: for tests, the SDK's MockRobot and `marvin run --sim
+// --in-memory`. Nothing survives the process. Thread-safe.
 #pragma once
 
 #include <map>

@@ -12,8 +12,10 @@
 
 #include <marvin/skill.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "skills/manifest.h"
@@ -26,6 +28,11 @@ class SkillInstance {  // one loaded skill, whatever its kind; called by one thr
   // Acts on one request. On any status but MARVIN_OK, `*error` holds a sentence for the
   // log (never spoken as is). Never throws.
   virtual marvin_status handle(const marvin_request& request, std::string* error) = 0;
+  // Timers the skill set (Lua's marvin.after): when the next one is due (host clock, Unix
+  // ms), or nullopt. The host loop calls poll() with its clock when that time has come;
+  // poll() runs what is due, from the same thread rule as handle(), and never throws.
+  virtual std::optional<std::int64_t> next_timer_ms() { return std::nullopt; }
+  virtual void poll(std::int64_t /*now_ms*/) {}
 };
 
 class SkillRuntime {  // loads skills of one kind ("native", "lua")

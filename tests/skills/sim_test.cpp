@@ -1,5 +1,7 @@
 // A piped `marvin run --sim` session, checked line by line: the built-in time skill with
-// a stopped clock, the example dice skill asking for a missing slot, no match, stop.
+// a stopped clock, the example dice skill asking for a missing slot, no match, stop; and
+// reminders kept in the SQLite store across runs and spoken by the scheduler. Every run
+// gets $MARVIN_DATA_DIR in a temporary folder, so the real home directory is never used.
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -20,13 +22,43 @@ struct Result {
   int exit_code = -1;
   std::vector<std::string> lines;
   std::string errors;
+  bool used_default_data_dir = false;
+};
+
+bool has_line(const Result& r, const std::string& line) {
+  for (const auto& l : r.lines) {
+    if (l == line) return true;
+  }
+  return false;
+}
+
+std::size_t count_containing(const Result& r, const std::string& text) {
+  std::size_t n = 0;
+  for (const auto& l : r.lines) {
+    if (l.find(text) != std::string::npos) ++n;
+  }
+  return n;
+}
+
+// A data directory of its own for one test case.
+struct TempDataDir {
+  fs::path path = fs::temp_directory_path() /
+                  ("marvin_sim_data_" + std::to_string(::getpid()) + "_" +
+                   std::to_string(counter()++));
+  TempDataDir() { fs::remove_all(path); }
+  ~TempDataDir() { fs::remove_all(path); }
+  static int& counter() {
+    static int n = 0;
+    return n;
+  }
 };
 
 Result run_marvin(const std::string& arguments, const std::string& input) {
   fs::path dir = fs::temp_directory_path() / ("marvin_sim_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "input.txt") << input;
-  std::string command = std::string("'") + MARVIN_EXE + "' " + arguments + " < '" +
+  std::string command = "MARVIN_DATA_DIR='" + (dir / "default-data").string() + "' '" +
+                        MARVIN_EXE + "' " + arguments + " < '" +
                         (dir / "input.txt").string() + "' 2> '" + (dir / "stderr.txt").string() +
                         "'";
   Result result;
@@ -39,6 +71,7 @@ Result run_marvin(const std::string& arguments, const std::string& input) {
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   std::istringstream lines(output);
   for (std::string line; std::getline(lines, line);) result.lines.push_back(line);
+  result.used_default_data_dir = fs::exists(dir / "default-data");
   std::ifstream err(dir / "stderr.txt");
   result.errors.assign(std::istreambuf_iterator<char>(err), {});
   fs::remove_all(dir);
@@ -126,3 +159,91 @@ TEST_CASE("marvin run without --sim says what to do") {
   CHECK(r.errors ==
         "marvin: only the simulated robot is available in this build: use `marvin run --sim`\n");
 }
+
+TEST_CASE("without --data-dir the store is opened in $MARVIN_DATA_DIR") {
+  Result r = run_marvin("run --sim --no-builtin-skills", "");
+  CHECK(r.exit_code == 0);
+  CHECK(r.used_default_data_dir);
+  Result m = run_marvin("run --sim --no-builtin-skills --in-memory", "");
+  CHECK(m.exit_code == 0);
+  CHECK_FALSE(m.used_default_data_dir);
+}
+
+TEST_CASE("a reminder added by voice persists in the SQLite file and fires in a later run") {
+  TempDataDir data;
+  const std::string base = "run --sim --time-zone Europe/Berlin --data-dir '" +
+                           data.path.string() + "' --clock ";
+
+  Result add = run_marvin(base + "2026-11-21T15:05", "remind me to take my pills at 8 pm\n");
+  CHECK(add.exit_code == 0);
+  CHECK(has_line(add, "Marvin: OK, I'll remind you to take your pills today at 8 PM."));
+  CHECK(fs::exists(data.path / "marvin.db"));
+  CHECK_FALSE(add.used_default_data_dir);
+
+  Result list = run_marvin(base + "2026-11-21T15:06", "what's on my schedule\n");
+  CHECK(list.exit_code == 0);
+  CHECK(has_line(list, "Marvin: Today: take your pills at 8 PM."));
+  CHECK(count_containing(list, "Reminder") == 0);
+
+  // Started at the due time, the scheduler says it once; the next start has nothing due.
+  Result due = run_marvin(base + "2026-11-21T20:00", "");
+  CHECK(due.exit_code == 0);
+  CHECK(has_line(due, "Marvin: Reminder: take my pills"));
+  Result after = run_marvin(base + "2026-11-21T20:01", "");
+  CHECK(after.exit_code == 0);
+  CHECK(count_containing(after, "take my pills") == 0);
+}
+
+TEST_CASE("a reminder due a while ago is announced as missed") {
+  TempDataDir data;
+  const std::string base = "run --sim --time-zone Europe/Berlin --data-dir '" +
+                           data.path.string() + "' --clock ";
+  Result add = run_marvin(base + "2026-11-21T15:05", "remind me to take my pills at 8 pm\n");
+  CHECK(add.exit_code == 0);
+  Result late = run_marvin(base + "2026-11-21T20:10", "");
+  CHECK(late.exit_code == 0);
+  CHECK(has_line(late, "Marvin: You missed a reminder: take my pills"));
+}
+
+TEST_CASE("a store that cannot be opened is a clear error and stays as it was") {
+  TempDataDir data;
+  fs::create_directories(data.path);
+  const std::string garbage = "this is not an SQLite database, just text of some length....";
+  std::ofstream(data.path / "marvin.db") << garbage;
+  Result r = run_marvin("run --sim --no-builtin-skills --data-dir '" + data.path.string() + "'",
+                        "");
+  CHECK(r.exit_code == 1);
+  CHECK(r.errors.find("marvin: cannot open the personal data: ") == 0);
+  CHECK(r.errors.find((data.path / "marvin.db").string()) != std::string::npos);
+  std::ifstream in(data.path / "marvin.db");
+  std::string after((std::istreambuf_iterator<char>(in)), {});
+  CHECK(after == garbage);
+
+  Result list = run_marvin("skills list --data-dir '" + data.path.string() + "'", "");
+  CHECK(list.exit_code == 1);
+}
+
+#ifdef LUA_FIXTURES_DIR
+TEST_CASE("Lua marvin.after timers fire on the host loop, in order, on the host clock") {
+  Result r = run_marvin(std::string("run --sim --in-memory --no-builtin-skills --clock "
+                                    "2026-11-21T15:05 --time-zone UTC --skills-dir '") +
+                            LUA_FIXTURES_DIR + "'",
+                        "ring in an hour\nring now\nring now\n");
+  CHECK(r.exit_code == 0);
+  std::vector<std::string> spoken;
+  for (const auto& line : r.lines) {
+    if (line.rfind("Marvin: ", 0) == 0 || line.rfind("You: ", 0) == 0) spoken.push_back(line);
+  }
+  // The clock is stopped: the hour never passes; a timer due now fires before the next
+  // utterance is taken, and at end of input.
+  CHECK(spoken == std::vector<std::string>{"Marvin: Hello, I'm Marvin.",
+                                           "You: ring in an hour",
+                                           "Marvin: Ringing in an hour.",
+                                           "You: ring now",
+                                           "Marvin: Ringing soon.",
+                                           "Marvin: Ring!",
+                                           "You: ring now",
+                                           "Marvin: Ringing soon.",
+                                           "Marvin: Ring!"});
+}
+#endif
