@@ -26,6 +26,7 @@ struct RunOptions {
   std::string data_dir;
   bool in_memory = false;
   bool verbose = false;
+  std::string mcu_tty;
 };
 
 void write_line(std::string_view text) {
@@ -40,6 +41,7 @@ HostOptions host_options(const RunOptions& o) {
   h.builtin_skills = !o.no_builtin;
   h.in_memory_data = o.in_memory;
   h.data_dir = o.data_dir;
+  h.mcu_tty = o.mcu_tty;
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
     try {
@@ -146,6 +148,9 @@ void install_skill_platform_commands(CLI::App& root) {
   CLI::App* run = root.add_subcommand("run", "Run the robot's host");
   run->add_flag("--sim", options->sim, "Simulated devices and a text console (stdin/stdout)");
   run->add_flag("-v,--verbose", options->verbose, "Show the host's informational log on stderr");
+  run->add_option("--mcu-tty", options->mcu_tty,
+                  "Also drive the base through this serial tty: the MCU, or the --link path "
+                  "of a running marvin-mcu-sim");
   add_skill_options(*run, *options);
   run->callback([options] { run_sim(*options); });
 

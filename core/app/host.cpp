@@ -1,5 +1,7 @@
 #include "app/host.h"
 
+#include "devices/serial_body.h"
+
 #include <date/tz.h>
 
 #include <atomic>
@@ -8,6 +10,7 @@
 #include <thread>
 
 #include "data/scheduler.h"
+#include "devices/serial_body.h"
 
 #include "common/log.h"
 #ifdef MARVIN_HAVE_LUA
@@ -151,6 +154,39 @@ std::string system_time_zone() {
   }
 }
 
+namespace {
+
+// Shows every body command on the console and sends it to the serial base; the obstacle
+// scan comes from the base, whose sonar is real (or simulated by marvin-mcu-sim).
+class MirroredBody : public devices::Body {
+ public:
+  MirroredBody(devices::Body& shown, devices::Body& driven) : shown_(shown), driven_(driven) {}
+  void move(devices::Direction direction, std::uint8_t speed,
+            std::chrono::milliseconds duration) override {
+    shown_.move(direction, speed, duration);
+    driven_.move(direction, speed, duration);
+  }
+  void stop() override {
+    shown_.stop();
+    driven_.stop();
+  }
+  void tilt_head(int degrees) override {
+    shown_.tilt_head(degrees);
+    driven_.tilt_head(degrees);
+  }
+  std::vector<devices::ScanPoint> latest_scan() override { return driven_.latest_scan(); }
+  void set_light(devices::Light light) override {
+    shown_.set_light(light);
+    driven_.set_light(light);
+  }
+
+ private:
+  devices::Body& shown_;
+  devices::Body& driven_;
+};
+
+}  // namespace
+
 Host::Host(HostOptions options, std::function<void(std::string_view)> write_line)
     : options_(std::move(options)), console_(std::move(write_line)), body_(console_) {
   if (options_.fixed_now_ms) {
@@ -174,6 +210,11 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   });
   services_.data = data_.get();
   services_.body = &body_;
+  if (!options_.mcu_tty.empty()) {
+    serial_body_ = std::make_unique<devices::SerialBody>(options_.mcu_tty);
+    mirrored_body_ = std::make_unique<MirroredBody>(body_, *serial_body_);
+    services_.body = mirrored_body_.get();
+  }
   services_.time_zone = options_.time_zone.empty() ? system_time_zone() : options_.time_zone;
   if (options_.fixed_now_ms) {
     std::int64_t now = *options_.fixed_now_ms;

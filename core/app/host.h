@@ -64,6 +64,10 @@ struct HostOptions {
   // (empty: data::default_data_dir(), i.e. $MARVIN_DATA_DIR, else the XDG default).
   bool in_memory_data = false;
   std::filesystem::path data_dir;
+  // Drive the body through this serial tty as well as showing it on the console: the
+  // base's MCU (/dev/ttyACM0) or the pseudo-terminal link of `marvin-mcu-sim --link PATH`.
+  // Empty: the console only.
+  std::string mcu_tty;
 };
 
 // Where this build put its built-in skills (<build>/skills).
@@ -93,12 +97,14 @@ class Host {
   skills::Registry& registry() { return *registry_; }
   skills::Manager& manager() { return *manager_; }
   skills::HostLoop& loop() { return *loop_; }
-  devices::Body& body() { return body_; }
+  devices::Body& body() { return *services_.body; }
 
  private:
   HostOptions options_;
   Console console_;
   ConsoleBody body_;
+  std::unique_ptr<devices::Body> serial_body_;  // with mcu_tty: the base over the serial link
+  std::unique_ptr<devices::Body> mirrored_body_;  // with mcu_tty: console + serial
   std::unique_ptr<skills::InMemoryPersonalData> memory_;
   std::unique_ptr<data::SqliteStore> store_;
   std::unique_ptr<data::Clock> clock_;
