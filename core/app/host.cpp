@@ -135,6 +135,9 @@ struct Host::Reminders {
   std::optional<boost::asio::executor_work_guard<boost::asio::io_context::executor_type>> work;
   std::thread thread;
   std::atomic<bool> running{false};
+  // The reminder announced most recently (0: none yet): what "done" and "snooze" refer to.
+  // Written by the scheduler's thread, read by skills' threads (schedule_last_fired).
+  std::atomic<std::int64_t> last_fired{0};
 
   ~Reminders() {
     work.reset();
@@ -210,6 +213,11 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   });
   services_.data = data_.get();
   services_.body = &body_;
+  services_.last_fired_reminder = [r = reminders_.get()]() -> std::optional<std::int64_t> {
+    std::int64_t id = r->last_fired.load();
+    if (id == 0) return std::nullopt;
+    return id;
+  };
   if (!options_.mcu_tty.empty()) {
     serial_body_ = std::make_unique<devices::SerialBody>(options_.mcu_tty);
     mirrored_body_ = std::make_unique<MirroredBody>(body_, *serial_body_);
@@ -274,6 +282,7 @@ void Host::start_scheduler() {
       clock_ ? *clock_ : static_cast<const data::Clock&>(data::SystemClock::instance());
   reminders_->scheduler = std::make_unique<data::Scheduler>(
       reminders_->io, *store_, clock, [this](const data::Firing& firing) {
+        reminders_->last_fired.store(firing.reminder.id);
         loop_->say(firing.missed ? "You missed a reminder: " + firing.reminder.title
                                  : "Reminder: " + firing.reminder.title);
       });
@@ -285,6 +294,7 @@ void Host::start_scheduler() {
     for (const data::MissedReminder& m : report.listed) {
       titles += (titles.empty() ? "" : ", ") + m.reminder.title;
     }
+    reminders_->last_fired.store(report.listed.back().reminder.id);
     loop_->say("While I was off, you missed: " + titles);
   }
   reminders_->work.emplace(reminders_->io.get_executor());

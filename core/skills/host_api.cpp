@@ -289,6 +289,57 @@ marvin_status api_schedule_remove(marvin_host* host, int64_t reminder_id) {
   });
 }
 
+marvin_status api_schedule_snooze(marvin_host* host, int64_t reminder_id, int64_t until_unix_ms) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "schedule"));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    std::int64_t now = c.services().now_ms ? c.services().now_ms() : system_now_ms();
+    if (until_unix_ms <= now) {
+      return fail(c, MARVIN_ERR_INVALID,
+                  "a reminder snoozes until a later time, got " + std::to_string(until_unix_ms) +
+                      " which is not after now (" + std::to_string(now) + ")");
+    }
+    if (!c.services().data->snooze_reminder(reminder_id, until_unix_ms)) {
+      return fail(c, MARVIN_ERR_NOT_FOUND,
+                  "there is no reminder with id " + std::to_string(reminder_id) + " to snooze");
+    }
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_schedule_done(marvin_host* host, int64_t reminder_id) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "schedule"));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    if (!c.services().data->complete_reminder(reminder_id)) {
+      return fail(c, MARVIN_ERR_NOT_FOUND,
+                  "there is no active reminder with id " + std::to_string(reminder_id));
+    }
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_schedule_last_fired(marvin_host* host, marvin_text_out* reminder_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "schedule"));
+    MARVIN_TRY(need_out(c, reminder_json));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    std::optional<std::int64_t> id;
+    if (c.services().last_fired_reminder) id = c.services().last_fired_reminder();
+    if (!id) return fail(c, MARVIN_ERR_NOT_FOUND, "no reminder has fired yet");
+    std::optional<data::Reminder> reminder = c.services().data->get_reminder(*id);
+    if (!reminder) {
+      return fail(c, MARVIN_ERR_NOT_FOUND,
+                  "the reminder that fired last (id " + std::to_string(*id) + ") no longer exists");
+    }
+    json j = reminder_to_json(*reminder);
+    j["state"] = reminder->state == data::Reminder::State::kActive ? "active"
+                 : reminder->state == data::Reminder::State::kDone ? "done"
+                                                                    : "cancelled";
+    return write_json(c, reminder_json, j);
+  });
+}
+
 marvin_status api_contacts_find(marvin_host* host, const char* name,
                                 marvin_text_out* contacts_json) {
   return guarded(host, [&](SkillContext& c) {
@@ -502,6 +553,9 @@ const marvin_robot_api* host_robot_api() {
     a.vision_who_is_there = api_vision_who_is_there;
     a.phone_call = api_phone_call;
     a.smarthome_set = api_smarthome_set;
+    a.schedule_snooze = api_schedule_snooze;
+    a.schedule_done = api_schedule_done;
+    a.schedule_last_fired = api_schedule_last_fired;
     return a;
   }();
   return &api;

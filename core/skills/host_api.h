@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,9 @@ struct HostServices {
   // move() returns when the motion has run its course (true), or at once (false: the
   // MockRobot, so tests have nothing to wait for).
   bool wait_for_motion = true;
+  // The id of the reminder the host announced most recently, if any (schedule_last_fired).
+  // Called from skill threads: it must be thread-safe.
+  std::function<std::optional<std::int64_t>()> last_fired_reminder;
 };
 
 // The system clock in milliseconds since the Unix epoch.

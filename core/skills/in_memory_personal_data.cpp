@@ -65,6 +65,27 @@ bool InMemoryPersonalData::remove_reminder(std::int64_t id) {
   return true;
 }
 
+bool InMemoryPersonalData::snooze_reminder(std::int64_t id, std::int64_t until_utc_ms) {
+  std::lock_guard lock(mutex_);
+  auto it = reminders_.find(id);
+  if (it == reminders_.end() || it->second.state == data::Reminder::State::kCancelled) return false;
+  it->second.state = data::Reminder::State::kActive;
+  it->second.next_fire_utc_ms = until_utc_ms;
+  return true;
+}
+
+bool InMemoryPersonalData::complete_reminder(std::int64_t id) {
+  std::lock_guard lock(mutex_);
+  auto it = reminders_.find(id);
+  if (it == reminders_.end() || it->second.state != data::Reminder::State::kActive) return false;
+  if (it->second.recurrence.kind == data::Recurrence::Kind::kOnce) {
+    it->second.state = data::Reminder::State::kDone;
+  }
+  events_.push_back(Event{"reminder_done", "scheduler",
+                          "reminder " + std::to_string(id) + " '" + it->second.title + "' done"});
+  return true;
+}
+
 std::int64_t InMemoryPersonalData::add_contact(const data::Contact& contact) {
   if (contact.name.empty()) throw std::runtime_error("contact: \"name\" is empty");
   std::lock_guard lock(mutex_);

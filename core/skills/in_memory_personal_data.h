@@ -20,6 +20,8 @@ class InMemoryPersonalData : public data::PersonalData {
   std::vector<data::Reminder> list_reminders() override;
   std::optional<data::Reminder> get_reminder(std::int64_t id) override;
   bool remove_reminder(std::int64_t id) override;
+  bool snooze_reminder(std::int64_t id, std::int64_t until_utc_ms) override;
+  bool complete_reminder(std::int64_t id) override;
 
   std::int64_t add_contact(const data::Contact& contact) override;
   std::vector<data::Contact> find_contacts(std::string_view name_or_alias) override;

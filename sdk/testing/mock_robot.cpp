@@ -16,6 +16,7 @@ MockRobot::Impl::Impl(std::string id, std::vector<std::string> permissions)
   services.now_ms = [this] { return now_ms; };
   services.time_zone = "UTC";
   services.wait_for_motion = false;
+  services.last_fired_reminder = [this] { return last_fired; };
   context = std::make_unique<skills::SkillContext>(skill_id, std::move(permissions), services);
 }
 
@@ -84,6 +85,17 @@ std::int64_t MockRobot::add_contact(const std::string& name, std::vector<std::st
   return impl_->data.add_contact(c);
 }
 
+std::int64_t MockRobot::add_reminder(const std::string& title, const std::string& at) {
+  data::Reminder r = skills::reminder_from_json(nlohmann::json{{"title", title}, {"at", at}},
+                                                impl_->services.time_zone);
+  r.created_by = "user";
+  return impl_->data.add_reminder(r);
+}
+
+void MockRobot::set_last_fired(std::optional<std::int64_t> reminder_id) {
+  impl_->last_fired = reminder_id;
+}
+
 const std::vector<std::string>& MockRobot::said() const { return impl_->said; }
 const std::vector<std::string>& MockRobot::asked() const { return impl_->asked; }
 const std::vector<std::string>& MockRobot::actions() const { return impl_->actions; }
@@ -96,6 +108,16 @@ std::vector<std::string> MockRobot::reminders() const {
     out.push_back(skills::reminder_to_json(r).dump());
   }
   return out;
+}
+
+std::optional<std::string> MockRobot::reminder(std::int64_t id) const {
+  std::optional<data::Reminder> r = impl_->data.get_reminder(id);
+  if (!r) return std::nullopt;
+  nlohmann::json j = skills::reminder_to_json(*r);
+  j["state"] = r->state == data::Reminder::State::kActive ? "active"
+               : r->state == data::Reminder::State::kDone ? "done"
+                                                          : "cancelled";
+  return j.dump();
 }
 
 std::optional<std::string> MockRobot::stored(const std::string& key) const {

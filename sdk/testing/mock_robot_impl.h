@@ -3,6 +3,7 @@
 #pragma once
 
 #include <deque>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,7 @@ struct MockRobot::Impl : devices::Body, skills::User {
   std::deque<std::string> answers;
   std::vector<std::string> said, asked, actions;
   std::vector<marvin_scan_point> scan;
+  std::optional<std::int64_t> last_fired;
 };
 
 }  // namespace marvin::testing

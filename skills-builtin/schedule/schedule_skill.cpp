@@ -5,6 +5,9 @@
 //   "cancel the pill reminder"                     -> cancels the one reminder that matches
 //   "add a contact"                                -> asks name and number
 //   "what is Anna's number"
+//   "snooze" / "remind me again in 20 minutes" -> the reminder that fired last fires again
+//                                                 then (10 minutes when no time is said)
+//   "done" / "I took them"                     -> marks the reminder that fired last done
 // Every acknowledgement is spoken only after the Robot API call returned, and the host
 // returns from schedule_add / contacts_add / schedule_remove only once the change is
 // committed durably (core/data): "OK" always means stored.
@@ -14,6 +17,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -177,6 +181,8 @@ class ScheduleSkill : public marvin::Skill {
     if (request.intent == "agenda") return agenda(parse_local(request.slots.at("when").at("at")).day);
     if (request.intent == "agenda_today") return agenda(today());
     if (request.intent == "cancel") return cancel(request.slots.at("task").get<std::string>());
+    if (request.intent == "snooze") return snooze(request);
+    if (request.intent == "done") return done();
     if (request.intent == "add_contact") return add_contact(request);
     if (request.intent == "contact_number") return contact_number(request.slots.at("name").get<std::string>());
     throw marvin::Error(MARVIN_ERR_INVALID, "unknown intent '" + request.intent + "'");
@@ -286,6 +292,63 @@ class ScheduleSkill : public marvin::Skill {
     robot().say(hits.size() == 1
                     ? "OK, I cancelled the reminder to " + second_person(hits[0].value("title", "")) + "."
                     : "OK, I cancelled all " + std::to_string(hits.size()) + " reminders.");
+  }
+
+  // The zone a reminder's times are spoken in: its own, else the owner's.
+  const date::time_zone* zone_of(const json& reminder) {
+    const std::string name = reminder.value("time_zone", "");
+    return date::locate_zone(name.empty() ? robot().time_zone() : name);
+  }
+
+  // The reminder announced last, unless it was cancelled since.
+  std::optional<json> last_fired() {
+    std::optional<json> fired = robot().schedule_last_fired();
+    if (fired && fired->value("state", "active") == "cancelled") return std::nullopt;
+    return fired;
+  }
+
+  void snooze(const marvin::Request& request) {
+    std::int64_t seconds = 10 * 60;
+    if (auto it = request.slots.find("duration"); it != request.slots.end() && it->is_number_integer())
+      seconds = it->get<std::int64_t>();
+    if (seconds <= 0) {
+      robot().say("Sorry, I can only snooze a reminder for some time from now.");
+      return;
+    }
+    const std::optional<json> fired = last_fired();
+    if (!fired) {
+      robot().say("There is no reminder to snooze.");
+      return;
+    }
+    const std::int64_t until = robot().now_ms() + seconds * 1000;
+    // Returns once the new time is durably stored; only then do we say OK.
+    robot().schedule_snooze(fired->at("id").get<std::int64_t>(), until);
+    const auto local = zone_of(*fired)->to_local(
+        date::sys_time<std::chrono::milliseconds>{std::chrono::milliseconds{until}});
+    const auto day = date::floor<date::days>(local);
+    const int minute = static_cast<int>(
+        std::chrono::duration_cast<std::chrono::minutes>(local - day).count());
+    std::string when = "at " + spoken_time(minute);
+    if (day != date::floor<date::days>(zone_of(*fired)->to_local(
+                   date::sys_time<std::chrono::milliseconds>{std::chrono::milliseconds{robot().now_ms()}})))
+      when = spoken_day(day, today()) + " " + when;
+    robot().say("OK, I'll remind you again " + when + ".");
+  }
+
+  void done() {
+    const std::optional<json> fired = last_fired();
+    if (!fired) {
+      robot().say("There is no reminder to mark as done.");
+      return;
+    }
+    const std::string title = fired->value("title", "");
+    if (fired->value("state", "active") == "done") {
+      robot().say("I've already marked '" + title + "' as done.");
+      return;
+    }
+    // Returns once the change is durably stored; only then do we say so.
+    robot().schedule_done(fired->at("id").get<std::int64_t>());
+    robot().say("Well done, I've marked '" + title + "' as done.");
   }
 
   void add_contact(const marvin::Request& request) {

@@ -110,3 +110,92 @@ TEST_CASE("no acknowledgement when the write is refused") {
   d->destroy(instance);
   dlclose(library);
 }
+
+TEST_CASE("snooze: the reminder that fired fires again in ten minutes, or when asked") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  h.robot().set_now(1767639600000);  // 2026-01-05T19:00Z, 8 PM in Berlin: it fired
+  const std::int64_t id = h.robot().add_reminder("take my pills", "2026-01-05T20:00");
+  h.robot().set_last_fired(id);
+  CHECK(h.intent_of("snooze") == "schedule/snooze");
+  CHECK(h.intent_of("remind me later") == "schedule/snooze");
+  CHECK(h.say("snooze") == Lines{"OK, I'll remind you again at 8:10 PM."});
+  auto stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["next_fire_utc_ms"] == 1767639600000 + 10 * 60 * 1000);
+  CHECK(h.say("remind me again in twenty minutes") ==
+        Lines{"OK, I'll remind you again at 8:20 PM."});
+  stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["at"] == "2026-01-05T20:20");
+  CHECK(h.say("remind me later") == Lines{"OK, I'll remind you again at 8:10 PM."});
+}
+
+TEST_CASE("done: the reminder that fired is marked done and does not fire again") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  h.robot().set_now(1767639600000);
+  const std::int64_t id = h.robot().add_reminder("take my pills", "2026-01-05T20:00");
+  h.robot().set_last_fired(id);
+  CHECK(h.intent_of("i took them") == "schedule/done");
+  CHECK(h.intent_of("i did it") == "schedule/done");
+  CHECK(h.say("I took them") == Lines{"Well done, I've marked 'take my pills' as done."});
+  CHECK(reminders(h).empty());
+  REQUIRE(h.robot().reminder(id).has_value());
+  CHECK(json::parse(*h.robot().reminder(id))["state"] == "done");
+  CHECK(h.say("done") == Lines{"I've already marked 'take my pills' as done."});
+  // Snoozing a done one-off reminder brings it back.
+  CHECK(h.say("snooze") == Lines{"OK, I'll remind you again at 8:10 PM."});
+  CHECK(json::parse(*h.robot().reminder(id))["state"] == "active");
+}
+
+TEST_CASE("snooze and done with nothing fired, or with the reminder cancelled since") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  h.say("remind me to take my pills at 8 pm");
+  CHECK(h.say("snooze") == Lines{"There is no reminder to snooze."});
+  CHECK(h.say("done") == Lines{"There is no reminder to mark as done."});
+  const std::int64_t id = reminders(h).at(0)["id"].get<std::int64_t>();
+  h.robot().set_last_fired(id);
+  h.say("cancel the pill reminder");
+  CHECK(h.say("snooze") == Lines{"There is no reminder to snooze."});
+  CHECK(h.say("I did it") == Lines{"There is no reminder to mark as done."});
+}
+
+TEST_CASE("snooze and done without the schedule permission: refused, nothing said or changed") {
+  void* library = dlopen(SCHEDULE_SKILL_DIR "/skill.so", RTLD_NOW | RTLD_LOCAL);
+  REQUIRE(library != nullptr);
+  auto get = reinterpret_cast<marvin_skill_descriptor_fn>(dlsym(library, MARVIN_SKILL_DESCRIPTOR_SYMBOL));
+  REQUIRE(static_cast<bool>(get));
+  const marvin_skill_descriptor* d = get();
+  marvin::testing::MockRobot robot("schedule", {});
+  const std::int64_t id = robot.add_reminder("take my pills", "2026-01-05T20:00");
+  robot.set_last_fired(id);
+  char error_text[512] = {};
+  marvin_text_out error{error_text, sizeof error_text, 0};
+  void* instance = d->create(robot.api(), robot.host(), &error);
+  REQUIRE(instance != nullptr);
+  for (const char* intent : {"snooze", "done"}) {
+    CAPTURE(intent);
+    const marvin_request request{sizeof(marvin_request), intent, "{}", intent};
+    CHECK(d->handle(instance, &request, &error) == MARVIN_ERR_PERMISSION);
+    CHECK(std::string(error_text).find("schedule") != std::string::npos);
+  }
+  CHECK(robot.said().empty());
+  CHECK(json::parse(*robot.reminder(id))["state"] == "active");
+  CHECK(json::parse(*robot.reminder(id))["next_fire_utc_ms"] == 1767643200000);
+  // The calls themselves, straight on the table.
+  CHECK(robot.api()->schedule_snooze(robot.host(), id, 1767700000000) == MARVIN_ERR_PERMISSION);
+  CHECK(robot.api()->schedule_done(robot.host(), id) == MARVIN_ERR_PERMISSION);
+  char buffer[512] = {};
+  marvin_text_out out{buffer, sizeof buffer, 0};
+  CHECK(robot.api()->schedule_last_fired(robot.host(), &out) == MARVIN_ERR_PERMISSION);
+  robot.set_permissions({"schedule"});
+  CHECK(robot.api()->schedule_last_fired(robot.host(), &out) == MARVIN_OK);
+  CHECK(json::parse(buffer)["id"] == id);
+  CHECK(robot.api()->schedule_snooze(robot.host(), 999, 1767700000000) == MARVIN_ERR_NOT_FOUND);
+  CHECK(robot.api()->schedule_done(robot.host(), id) == MARVIN_OK);
+  CHECK(robot.api()->schedule_done(robot.host(), id) == MARVIN_ERR_NOT_FOUND);
+  d->destroy(instance);
+  dlclose(library);
+}

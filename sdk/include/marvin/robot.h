@@ -11,7 +11,7 @@
  *   "light"     set_light
  *   "motion"    move, stop, tilt_head
  *   "sensors"   obstacle_scan
- *   "schedule"  schedule_*
+ *   "schedule"  schedule_* (schedule_snooze, schedule_done, schedule_last_fired: API 1.1)
  *   "contacts"  contacts_*, people_list
  *   "storage"   storage_*             (a skill only ever sees its own keys)
  *   "vision", "phone", "smarthome"    the capabilities of later releases
@@ -59,7 +59,7 @@ typedef enum marvin_log_level {
 } marvin_log_level;
 
 #define MARVIN_ROBOT_API_MAJOR 1
-#define MARVIN_ROBOT_API_MINOR 0
+#define MARVIN_ROBOT_API_MINOR 1
 
 typedef struct marvin_robot_api {
   uint32_t struct_size; /* sizeof(marvin_robot_api) as the host compiled it */
@@ -132,6 +132,23 @@ typedef struct marvin_robot_api {
   marvin_status (*vision_who_is_there)(marvin_host* host, marvin_text_out* people_json);
   marvin_status (*phone_call)(marvin_host* host, const char* phone_number);
   marvin_status (*smarthome_set)(marvin_host* host, const char* device, const char* state);
+
+  /* --- since API 1.1: answering a reminder that fired ("snooze", "I took them") ------
+   * A skill built against 1.1 running on a 1.0 host must check struct_size (or minor)
+   * before calling these: they lie beyond the end of an older host's table. */
+  /* "Remind me again in ten minutes": reminder `reminder_id` fires next at
+   * `until_unix_ms` (a done one-off reminder becomes active again); a recurring one goes
+   * on with its series after that. MARVIN_ERR_NOT_FOUND if there is no active or done
+   * reminder with that id; MARVIN_ERR_INVALID if `until_unix_ms` is not in the future. */
+  marvin_status (*schedule_snooze)(marvin_host* host, int64_t reminder_id, int64_t until_unix_ms);
+  /* "I took them": a one-off reminder becomes done and will not fire again; a recurring
+   * one keeps its series. MARVIN_ERR_NOT_FOUND if there is no active reminder with that id. */
+  marvin_status (*schedule_done)(marvin_host* host, int64_t reminder_id);
+  /* The reminder the robot announced most recently ("Reminder: take my pills"), as the
+   * JSON of one reminder (the format of schedule_list's elements, with its current
+   * state), so a skill knows which reminder "done" or "snooze" refers to.
+   * MARVIN_ERR_NOT_FOUND if no reminder has fired since the host started. */
+  marvin_status (*schedule_last_fired)(marvin_host* host, marvin_text_out* reminder_json);
 } marvin_robot_api;
 
 #ifdef __cplusplus

@@ -133,6 +133,24 @@ class Robot {
   void schedule_remove(std::int64_t reminder_id) {
     check(fn(&marvin_robot_api::schedule_remove, "schedule_remove")(host_, reminder_id));
   }
+  // Robot API 1.1 (Error(MARVIN_ERR_UNAVAILABLE) on an older host).
+  void schedule_snooze(std::int64_t reminder_id, std::int64_t until_unix_ms) {
+    check(fn(&marvin_robot_api::schedule_snooze, "schedule_snooze")(host_, reminder_id,
+                                                                    until_unix_ms));
+  }
+  void schedule_done(std::int64_t reminder_id) {
+    check(fn(&marvin_robot_api::schedule_done, "schedule_done")(host_, reminder_id));
+  }
+  // The reminder announced most recently, or nullopt if none fired since the host started.
+  std::optional<nlohmann::json> schedule_last_fired() {
+    auto call = fn(&marvin_robot_api::schedule_last_fired, "schedule_last_fired");
+    try {
+      return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
+    } catch (const Error& e) {
+      if (e.status() == MARVIN_ERR_NOT_FOUND) return std::nullopt;
+      throw;
+    }
+  }
   nlohmann::json contacts_find(std::string_view name) {
     std::string n = str(name);
     auto call = fn(&marvin_robot_api::contacts_find, "contacts_find");

@@ -56,6 +56,13 @@ class MockRobot {
   std::int64_t add_contact(const std::string& name, std::vector<std::string> aliases = {},
                            std::vector<std::string> phone_numbers = {});
 
+  // Adds a reminder as the user could have (`at`: local "YYYY-MM-DDTHH:MM" in the robot's
+  // time zone, recurrence once); returns its id.
+  std::int64_t add_reminder(const std::string& title, const std::string& at);
+  // As if the robot had just announced reminder `reminder_id` ("Reminder: take my pills"):
+  // schedule_last_fired() serves it from now on. std::nullopt: nothing fired (the default).
+  void set_last_fired(std::optional<std::int64_t> reminder_id);
+
   // --- what the skill did ----------------------------------------------------------
   // Every sentence spoken, questions included, in order.
   const std::vector<std::string>& said() const;
@@ -68,6 +75,9 @@ class MockRobot {
   std::size_t answers_left() const;
   // Reminders the skill created, as JSON text in the README's format, soonest first.
   std::vector<std::string> reminders() const;
+  // The reminder with id `id` as JSON text (with "state": "active", "done" or
+  // "cancelled"), whatever its state; nullopt if there is none.
+  std::optional<std::string> reminder(std::int64_t id) const;
   // The skill's stored value under `key`.
   std::optional<std::string> stored(const std::string& key) const;
   // Forgets said(), asked() and actions().
