@@ -342,12 +342,13 @@ class ScheduleSkill : public marvin::Skill {
       return;
     }
     const std::string title = fired->value("title", "");
-    if (fired->value("state", "active") == "done") {
-      robot().say("I've already marked '" + title + "' as done.");
-      return;
+    // A one-off reminder is already retired (state "done") by the scheduler once it has
+    // fired, so "I took them" right after it is the normal case: acknowledge it, and only
+    // write when there is something to change.
+    if (fired->value("state", "active") != "done") {
+      // Returns once the change is durably stored; only then do we say so.
+      robot().schedule_done(fired->at("id").get<std::int64_t>());
     }
-    // Returns once the change is durably stored; only then do we say so.
-    robot().schedule_done(fired->at("id").get<std::int64_t>());
     robot().say("Well done, I've marked '" + title + "' as done.");
   }
 
