@@ -160,14 +160,7 @@ void run_skill(const RunSkillOptions& o) {
   } else {
     host.loop().on_heard([](std::string_view line) { write_line("You: " + std::string(line)); });
   }
-  std::thread reader([&host] {
-    std::string line;
-    while (std::getline(std::cin, line)) {
-      while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-      if (!line.empty()) host.loop().post(line);
-    }
-    host.loop().close();
-  });
+  std::thread reader = start_console_reader(host);
   host.body().set_light(devices::Light::kAwaiting);
   host.loop().run();
   reader.join();

@@ -82,14 +82,7 @@ void run_sim(const RunOptions& o) {
     host.loop().on_heard([](std::string_view line) { write_line("You: " + std::string(line)); });
   }
   // The console reader feeds the host loop; the loop runs here until end of input.
-  std::thread reader([&host] {
-    std::string line;
-    while (std::getline(std::cin, line)) {
-      while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-      if (!line.empty()) host.loop().post(line);
-    }
-    host.loop().close();
-  });
+  std::thread reader = start_console_reader(host);
   host.body().set_light(devices::Light::kAwaiting);
   host.manager().say("Hello, I'm Marvin.");
   host.start_scheduler();

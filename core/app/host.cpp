@@ -7,6 +7,7 @@
 #include <atomic>
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
+#include <iostream>
 #include <thread>
 
 #include "data/scheduler.h"
@@ -308,6 +309,17 @@ void Host::load() {
   for (const std::string& conflict : registry_->conflicts()) {
     log(LogLevel::kWarning, "skills", "template conflict: " + conflict);
   }
+}
+
+std::thread start_console_reader(Host& host) {
+  return std::thread([&host] {
+    std::string line;
+    while (std::getline(std::cin, line)) {
+      while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+      if (!line.empty()) host.loop().post(line);
+    }
+    host.loop().close();
+  });
 }
 
 }  // namespace marvin::app

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "devices/body.h"
@@ -116,5 +117,10 @@ class Host {
   std::unique_ptr<skills::Registry> registry_;
   std::unique_ptr<skills::Manager> manager_;
 };
+
+// Starts a thread that posts each non-empty line of standard input (trailing blanks and
+// CR removed) to host.loop() and closes the loop at end of input. The caller runs the
+// loop and joins the thread after it returns.
+std::thread start_console_reader(Host& host);
 
 }  // namespace marvin::app
