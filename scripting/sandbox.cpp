@@ -787,8 +787,6 @@ void Sandbox::load_file(lua_State* L, const char* relative) {
   lua_setupvalue(L, -2, 1);
 }
 
-namespace {
-
 struct RunContext {
   Sandbox* sandbox;
   std::string_view code;
@@ -797,6 +795,8 @@ struct RunContext {
   RunResult* result;
   int ref = LUA_NOREF;          // call
 };
+
+namespace {
 
 int run_protected(lua_State* L) {
   auto* ctx = static_cast<RunContext*>(lua_touserdata(L, 1));
@@ -850,65 +850,52 @@ int run_protected(lua_State* L) {
 
 }  // namespace
 
-RunResult Sandbox::run(std::string_view code, std::string_view chunkname) {
+// The body shared by run(), run_file() and call(): one coroutine under a fresh budget.
+// `ctx.result` is where run_protected() reports; a trip's reason wins over the error it
+// raised, because the raised error may have passed through the script's own handlers.
+RunResult Sandbox::invoke(RunContext& ctx) {
   RunResult result;
+  ctx.result = &result;
   try {
-    RunContext ctx{this, code, nullptr, std::string(), &result, LUA_NOREF};
+    begin_invocation();
+    std::string error;
+    if (protect(run_protected, &ctx, &error) != LUA_OK) {
+      result.ok = false;
+      result.error = tripped_ ? trip_reason_ : error;
+    }
+    result.tripped = tripped_;
+    end_invocation();
+  } catch (const std::exception& e) {
+    result.ok = false;
+    result.error = e.what();
+  }
+  return result;
+}
+
+RunResult Sandbox::run(std::string_view code, std::string_view chunkname) {
+  try {
+    RunContext ctx{this, code, nullptr, std::string(), nullptr, LUA_NOREF};
     const bool file = chunkname.size() > 4 && chunkname.substr(chunkname.size() - 4) == ".lua";
     ctx.chunkname.reserve(chunkname.size() + 1);
     ctx.chunkname.push_back(file ? '@' : '=');
     ctx.chunkname.append(chunkname);
-    begin_invocation();
-    std::string error;
-    if (protect(run_protected, &ctx, &error) != LUA_OK) {
-      result.ok = false;
-      result.error = tripped_ ? trip_reason_ : error;
-    }
-    result.tripped = tripped_;
-    end_invocation();
-  } catch (const std::exception& e) {
+    return invoke(ctx);
+  } catch (const std::exception& e) {  // the chunk name did not fit in memory
+    RunResult result;
     result.ok = false;
     result.error = e.what();
+    return result;
   }
-  return result;
 }
 
 RunResult Sandbox::call(int ref) {
-  RunResult result;
-  try {
-    RunContext ctx{this, {}, nullptr, std::string(), &result, ref};
-    begin_invocation();
-    std::string error;
-    if (protect(run_protected, &ctx, &error) != LUA_OK) {
-      result.ok = false;
-      result.error = tripped_ ? trip_reason_ : error;
-    }
-    result.tripped = tripped_;
-    end_invocation();
-  } catch (const std::exception& e) {
-    result.ok = false;
-    result.error = e.what();
-  }
-  return result;
+  RunContext ctx{this, {}, nullptr, std::string(), nullptr, ref};
+  return invoke(ctx);
 }
 
 RunResult Sandbox::run_file(const std::string& relative) {
-  RunResult result;
-  try {
-    RunContext ctx{this, {}, &relative, std::string(), &result, LUA_NOREF};
-    begin_invocation();
-    std::string error;
-    if (protect(run_protected, &ctx, &error) != LUA_OK) {
-      result.ok = false;
-      result.error = tripped_ ? trip_reason_ : error;
-    }
-    result.tripped = tripped_;
-    end_invocation();
-  } catch (const std::exception& e) {
-    result.ok = false;
-    result.error = e.what();
-  }
-  return result;
+  RunContext ctx{this, {}, &relative, std::string(), nullptr, LUA_NOREF};
+  return invoke(ctx);
 }
 
 }  // namespace marvin::scripting

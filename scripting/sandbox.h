@@ -74,6 +74,9 @@ struct RunResult {
   std::string error;      // "main.lua:3: message" (the position of the script's line)
 };
 
+// What one run(), run_file() or call() executes (defined in sandbox.cpp).
+struct RunContext;
+
 class Sandbox {
  public:
   // Builds the state. `name` is the skill id (used in messages), `folder` the skill's folder
@@ -166,6 +169,7 @@ class Sandbox {
   }
 
  private:
+  RunResult invoke(RunContext& ctx);
   static void* allocate(void* ud, void* ptr, std::size_t old_size, std::size_t new_size);
   static int setup(lua_State* L);
 

@@ -51,16 +51,14 @@ class TestWorld : public devices::Body, public skills::User {
   // devices::Body
   void move(devices::Direction direction, std::uint8_t speed,
             std::chrono::milliseconds duration) override {
-    static const char* const names[] = {"forward", "backward", "left", "right"};
-    actions.push_back(std::string("move ") + names[static_cast<int>(direction)] + " speed=" +
+    actions.push_back(std::string("move ") + devices::to_string(direction) + " speed=" +
                       std::to_string(speed) + " ms=" + std::to_string(duration.count()));
   }
   void stop() override { actions.emplace_back("stop"); }
   void tilt_head(int degrees) override { actions.push_back("tilt_head " + std::to_string(degrees)); }
   std::vector<devices::ScanPoint> latest_scan() override { return {}; }
   void set_light(devices::Light light) override {
-    static const char* const names[] = {"off", "awaiting", "listening", "executing"};
-    lights.emplace_back(names[static_cast<int>(light)]);
+    lights.emplace_back(devices::to_string(light));
   }
 
   // skills::User

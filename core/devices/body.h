@@ -17,6 +17,17 @@ enum class Light { kOff, kAwaiting /*red*/, kListening /*green*/, kExecuting /*y
 
 enum class Direction { kForward, kBackward, kLeft, kRight };
 
+// "off", "awaiting", "listening", "executing": the names logs and test recordings use.
+inline const char* to_string(Light light) {
+  static const char* const names[] = {"off", "awaiting", "listening", "executing"};
+  return names[static_cast<int>(light)];
+}
+// "forward", "backward", "left", "right".
+inline const char* to_string(Direction direction) {
+  static const char* const names[] = {"forward", "backward", "left", "right"};
+  return names[static_cast<int>(direction)];
+}
+
 // One filtered sonar point. angle_deg is the sweep angle above the horizontal in the
 // vertical plane of the heading (0 = straight ahead, 90 = up, 120 = up and backwards);
 // distance_m is the measured (slant) distance, capped at 2.5 m when nothing echoed;

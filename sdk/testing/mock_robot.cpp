@@ -22,8 +22,7 @@ MockRobot::Impl::Impl(std::string id, std::vector<std::string> permissions)
 
 void MockRobot::Impl::move(devices::Direction direction, std::uint8_t speed,
                            std::chrono::milliseconds duration) {
-  static const char* names[] = {"forward", "backward", "left", "right"};
-  actions.push_back(std::string("move ") + names[static_cast<int>(direction)] +
+  actions.push_back(std::string("move ") + devices::to_string(direction) +
                     " speed=" + std::to_string(speed) + " ms=" + std::to_string(duration.count()));
 }
 void MockRobot::Impl::stop() { actions.push_back("stop"); }
@@ -43,8 +42,7 @@ std::vector<devices::ScanPoint> MockRobot::Impl::latest_scan() {
   return out;
 }
 void MockRobot::Impl::set_light(devices::Light light) {
-  static const char* names[] = {"off", "awaiting", "listening", "executing"};
-  actions.push_back(std::string("light ") + names[static_cast<int>(light)]);
+  actions.push_back(std::string("light ") + devices::to_string(light));
 }
 
 void MockRobot::Impl::say(std::string_view text) { said.emplace_back(text); }
