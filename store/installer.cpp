@@ -335,7 +335,13 @@ InstallResult Installer::install(const PackageSource& source) {
            options_.host_arch.name());
     }
   }
-  if (options_.validate) options_.validate(staged);
+  if (options_.validate) {
+    try {
+      options_.validate(staged);
+    } catch (const std::exception& e) {
+      fail(origin + ": the host would not load it: " + e.what());
+    }
+  }
 
   // 5. Permissions.
   std::vector<std::string> added =

@@ -68,7 +68,23 @@ PackageManifest parse_package_manifest(std::string_view json_text, const std::st
   if (m.kind != "native" && m.kind != "lua") {
     fail(origin, "kind", "\"" + m.kind + "\" is not \"native\" or \"lua\"");
   }
-  std::string host_api = required_string(j, "host_api", origin);
+  // The host's manifest writes the range as {"min": "1.0", "max": "1.3"} (max optional: any
+  // minor of min's major); older packages as a range string. Both mean the same here.
+  std::string host_api;
+  const nlohmann::json& api = required(j, "host_api", origin);
+  if (api.is_object()) {
+    auto min = api.find("min");
+    if (min == api.end() || !min->is_string()) fail(origin, "host_api.min", "expected a string such as \"1.0\"");
+    host_api = "^" + min->get<std::string>();
+    if (auto max = api.find("max"); max != api.end()) {
+      if (!max->is_string()) fail(origin, "host_api.max", "expected a string such as \"1.3\"");
+      host_api = ">=" + min->get<std::string>() + " <=" + max->get<std::string>();
+    }
+  } else if (api.is_string()) {
+    host_api = api.get<std::string>();
+  } else {
+    fail(origin, "host_api", std::string("expected an object {\"min\": ...} or a range string, found ") + api.type_name());
+  }
   try {
     m.host_api = VersionRange::parse(host_api, "host_api");
   } catch (const std::exception& e) {

@@ -8,7 +8,8 @@
 //   "id":          [a-z0-9][a-z0-9._-]{0,63}, no "..": also the directory name on disk
 //   "version":     semantic version (MAJOR.MINOR.PATCH[-pre][+build])
 //   "kind":        "native" | "lua"
-//   "host_api":    a host API range, e.g. ">=1.0 <2.0" or "^1.0" (see semver.h)
+//   "host_api":    the host's form {"min": "1.0", "max": "1.3"} ("max" optional: same major),
+//                  or a range string, e.g. ">=1.0 <2.0" or "^1.0" (see semver.h)
 //   "permissions": array of strings (optional, default empty), sorted and de-duplicated
 //   "library":     native skills only: file name of the shared library inside the package,
 //                  relative, e.g. "libdice.so" (also accepted as "native": {"library": ...})

@@ -8,8 +8,10 @@
 //   - real-time factor (CPU time / audio time) while awaiting the wake word in silence (room
 //     hiss), and while hearing commands (with and without making the replies);
 //   - delay from the end of speech to the first reply sample = the endpointer's trailing
-//     silence (audio time the user waits) + computation from the endpoint decision to the
-//     first synthesised sample, for two trailing-silence settings.
+//     silence (audio time the user waits) + computation from the endpoint decision until the
+//     reply is ready to play (recognizer finish + responder + synthesis of the whole reply),
+//     for several trailing-silence settings, the default marked. Goal: < 300 ms with the
+//     default, at the sentence accuracy of the old 400 ms default.
 // It never fails on time.
 #include <algorithm>
 #include <chrono>
@@ -178,7 +180,8 @@ int main() {
                                                      [](const Command& c) { return *c.intent != 0; })),
               speech_seconds);
 
-  for (int trailing_ms : {400, 250}) {
+  const int default_trailing_ms = EndpointerOptions{}.trailing_silence_ms;
+  for (int trailing_ms : {400, 300, 250, 200}) {
     for (bool replies : {true, false}) {
       VoiceLoopOptions options;
       options.endpointer.trailing_silence_ms = trailing_ms;
@@ -234,7 +237,8 @@ int main() {
           total_ms.push_back(silence_ms + compute);
         }
       }
-      std::printf("\ntrailing silence %d ms, %s:\n", trailing_ms,
+      std::printf("\ntrailing silence %d ms%s, %s:\n", trailing_ms,
+                  trailing_ms == default_trailing_ms ? " (the default)" : "",
                   replies ? "with spoken replies" : "recognition only (no replies)");
       std::printf("  wake word fired on      %d / %zu\n", woke, samples.size());
       std::printf("  sentence accuracy       %d / %d = %.0f%%\n", sentence_ok, in_grammar,
@@ -255,7 +259,7 @@ int main() {
                     median(total_ms), *std::max_element(total_ms.begin(), total_ms.end()),
                     median(compute_ms), *std::max_element(compute_ms.begin(), compute_ms.end()));
       }
-      if (!failures.empty() && replies && trailing_ms == 400) std::printf("  misses:\n%s", failures.c_str());
+      if (!failures.empty() && replies) std::printf("  misses:\n%s", failures.c_str());
     }
   }
 

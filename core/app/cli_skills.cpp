@@ -1,8 +1,18 @@
-// `marvin run --sim` (the host with simulated devices and a console) and `marvin skills
-// list` (what the registry loaded, and what it refused).
+// `marvin run --sim` (the host with simulated devices and a console), `marvin skills list`
+// (what the registry loaded, and what it refused) and `marvin skills reload` (asks running
+// hosts to pick up changed skills now).
+//
+// Skills directories: without --skills-dir, the store's installed-skills directory
+// (app/installed_skills.h, the same default as `marvin skill install`) when it exists; with
+// --skills-dir, exactly the directories named, so `marvin skill install --skills-dir D` and
+// `marvin run --sim --skills-dir D` work on the same skills. The running host watches them
+// and reloads what changed (Host::watch_skills()).
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <optional>
 #include <functional>
 #include <iostream>
 #include <memory>
@@ -11,6 +21,8 @@
 
 #include "app/cli.h"
 #include "app/host.h"
+#include "app/voice_run.h"
+#include "app/installed_skills.h"
 #include "common/log.h"
 #include "skills/api_json.h"
 
@@ -27,6 +39,7 @@ struct RunOptions {
   bool in_memory = false;
   bool verbose = false;
   std::string mcu_tty;
+  VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
 };
 
 void write_line(std::string_view text) {
@@ -38,6 +51,9 @@ void write_line(std::string_view text) {
 HostOptions host_options(const RunOptions& o) {
   HostOptions h;
   for (const auto& dir : o.skills_dirs) h.skills_dirs.emplace_back(dir);
+  if (o.skills_dirs.empty()) {
+    if (auto installed = default_installed_skills_dir()) h.installed_skills_dir = *installed;
+  }
   h.builtin_skills = !o.no_builtin;
   h.in_memory_data = o.in_memory;
   h.data_dir = o.data_dir;
@@ -67,14 +83,27 @@ std::unique_ptr<Host> open_host(const RunOptions& o,
 }
 
 void run_sim(const RunOptions& o) {
+  // Without --sim: the microphone and speaker (a clear error without a sound card).
+  std::shared_ptr<LiveAudio> live;
   if (!o.sim) {
-    throw CliError("only the simulated robot is available in this build: use `marvin run --sim`",
-                   2);
+    if (!o.voice.audio_in.empty()) {
+      throw CliError("--audio-in plays a recording to the simulated robot: add --sim", 2);
+    }
+    live = open_live_audio(o.voice);
   }
   set_log_level(o.verbose ? LogLevel::kInfo : LogLevel::kWarning);
   std::unique_ptr<Host> host_ptr = open_host(o, write_line);
   Host& host = *host_ptr;
+  // Watching starts before loading, so nothing installed meanwhile is missed (a reload
+  // that finds no change does nothing).
+  try {
+    host.watch_skills();
+  } catch (const std::exception& e) {
+    log(LogLevel::kWarning, "skills", std::string(e.what()) + "; installed skills are "
+                                          "picked up at the next start");
+  }
   host.load();
+  if (live || !o.voice.audio_in.empty()) return run_voice(std::move(host_ptr), o.voice, live);
   const bool interactive = isatty(STDIN_FILENO) != 0;
   if (interactive) {
     write_line("Marvin (simulated robot). Type a request; Ctrl-D quits.");
@@ -121,9 +150,40 @@ void list_skills(const RunOptions& o) {
   }
 }
 
+// Rewrites <dir>/.store/reload-request for each directory: a running host watching the
+// directory reloads what changed there (SkillWatcher). Nothing happens without a host.
+void request_reload(const std::vector<std::string>& given) {
+  std::vector<std::filesystem::path> dirs(given.begin(), given.end());
+  if (dirs.empty()) {
+    std::optional<std::filesystem::path> installed = default_installed_skills_dir();
+    if (!installed) {
+      throw CliError("no skills directory: pass --skills-dir or set MARVIN_SKILLS_DIR");
+    }
+    dirs.push_back(*installed);
+  }
+  for (const auto& dir : dirs) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) {
+      throw CliError("skills directory " + dir.string() + " does not exist", 1);
+    }
+  }
+  for (const auto& dir : dirs) {
+    std::filesystem::path request = reload_request_file(dir);
+    std::error_code ec;
+    std::filesystem::create_directories(request.parent_path(), ec);
+    std::ofstream out(request, std::ios::trunc);
+    out << "reload requested by process " << ::getpid() << "\n";
+    out.close();
+    if (!out) throw CliError("cannot write " + request.string(), 1);
+    write_line("asked running hosts to reload the skills in " + dir.string() + " (" +
+               request.string() + ")");
+  }
+}
+
 void add_skill_options(CLI::App& app, RunOptions& o) {
   app.add_option("--skills-dir", o.skills_dirs,
-                 "Also load the skills in this directory (repeatable)");
+                 "Load the skills in this directory instead of the installed skills "
+                 "($MARVIN_SKILLS_DIR or ~/.local/share/marvin/skills); repeatable");
   app.add_flag("--no-builtin-skills", o.no_builtin, "Do not load the build's built-in skills");
   app.add_option("--time-zone", o.time_zone, "The owner's IANA time zone (default: the system's)");
   app.add_option("--clock", o.clock,
@@ -145,12 +205,20 @@ void install_skill_platform_commands(CLI::App& root) {
                   "Also drive the base through this serial tty: the MCU, or the --link path "
                   "of a running marvin-mcu-sim");
   add_skill_options(*run, *options);
+  add_voice_run_options(*run, options->voice);
   run->callback([options] { run_sim(*options); });
 
   CLI::App& skills = command_group(root, "skills", "Installed skills");
   CLI::App* list = skills.add_subcommand("list", "Skills, versions, kinds, intents, load errors");
   add_skill_options(*list, *options);
   list->callback([options] { list_skills(*options); });
+
+  auto reload_dirs = std::make_shared<std::vector<std::string>>();
+  CLI::App* reload = skills.add_subcommand(
+      "reload", "Ask running hosts to reload the skills that changed (installed, edited, removed)");
+  reload->add_option("--skills-dir", *reload_dirs,
+                     "This directory (default: the installed skills); repeatable");
+  reload->callback([reload_dirs] { request_reload(*reload_dirs); });
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "app/installed_skills.h"
 #include "store/installer.h"
 #include "store/package.h"
 #include "store/repository.h"
@@ -39,9 +40,7 @@ struct StoreArgs {
 
 fs::path skills_dir(const StoreArgs& a) {
   if (!a.skills_dir.empty()) return a.skills_dir;
-  if (const char* env = std::getenv("MARVIN_SKILLS_DIR"); env && *env) return env;
-  if (const char* xdg = std::getenv("XDG_DATA_HOME"); xdg && *xdg) return fs::path(xdg) / "marvin" / "skills";
-  if (const char* home = std::getenv("HOME"); home && *home) return fs::path(home) / ".local/share/marvin/skills";
+  if (std::optional<fs::path> dir = default_installed_skills_dir()) return *dir;
   throw CliError("no skills directory: pass --skills-dir or set MARVIN_SKILLS_DIR");
 }
 
@@ -105,6 +104,8 @@ store::Installer make_installer(const StoreArgs& a) {
   store::InstallOptions o;
   o.assume_yes = a.yes;
   o.allow_downgrade = a.allow_downgrade;
+  // What the host would refuse to load is refused before activation (names file and field).
+  o.validate = validate_skill_for_host;
   o.approve = [](const store::ApprovalRequest& r) {
     std::cout << r.id << " " << r.version << " asks for these permissions:\n";
     for (const std::string& p : r.permissions) {

@@ -1,22 +1,28 @@
 // `marvin say "text"`: speaks through the synthesizer (checks the audio set-up).
+// The voice side of `marvin run` (app/voice_run.h): a recording or the live microphone
+// through the host's voice front end (app/voice_host.h).
 // `marvin voice listen FILE.wav [--audio-out reply.wav]`: the voice loop (wake word,
 // recognition, spoken reply) on a recording, with a small demo grammar or --grammar FILE.jsgf.
 // The wake word is pocketsphinx keyphrase spotting unless --wake-word neural (the shipped
 // models/marvin-kws.bin, or $MARVIN_KWS_MODEL). The neural spotter becomes the default once
 // it meets its streaming goals (issue 9); today it misses too often on synthetic speech.
+#include <atomic>
+#include <csignal>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "app/cli.h"
+#include "app/voice_host.h"
+#include "app/voice_run.h"
 #include "devices/audio/alsa_device.h"
 #include "devices/audio/sound_file.h"
 #include "perception/command_grammar.h"
-#include "perception/kws/neural_wake_word.h"
-#include "perception/pocketsphinx_wake_word.h"
 #include "perception/speech_recognizer.h"
 #include "perception/speech_synthesizer.h"
 #include "perception/voice_loop.h"
@@ -76,19 +82,10 @@ struct ListenArgs {
 };
 
 std::unique_ptr<perception::WakeWordDetector> make_wake_word(const ListenArgs& args) {
-  if (args.wake_word == "pocketsphinx") {
-    perception::PocketsphinxWakeWordOptions options;
-    options.sensitivity = args.sensitivity;
-    return std::make_unique<perception::PocketsphinxWakeWord>(options);
-  }
-  perception::kws::NeuralWakeWordOptions options;
-  options.sensitivity = args.sensitivity;
   try {
-    return std::make_unique<perception::kws::NeuralWakeWord>(options);
+    return app::make_wake_word(args.wake_word, args.sensitivity);
   } catch (const std::exception& e) {
-    throw CliError(std::string("neural wake word: ") + e.what() +
-                       " (set MARVIN_KWS_MODEL, or use --wake-word pocketsphinx)",
-                   2);
+    throw CliError(e.what(), 2);
   }
 }
 
@@ -203,5 +200,132 @@ void install_voice_commands(CLI::App& root) {
 }  // namespace
 
 MARVIN_CLI_COMMANDS(install_voice_commands);
+
+// ---- the voice side of `marvin run` (voice_run.h) ----------------------------------------
+
+void add_voice_run_options(CLI::App& run, VoiceRunOptions& o) {
+  CLI::Option* in = run.add_option(
+      "--audio-in", o.audio_in,
+      "With --sim: hear this recording (WAV, FLAC, any rate) instead of typed requests");
+  run.add_option("--audio-out", o.audio_out,
+                 "With --audio-in: write Marvin's speech to this WAV, aligned with the recording")
+      ->needs(in);
+  run.add_option("--wake-word", o.wake_word,
+                 "Wake-word detector: pocketsphinx, or neural (models/marvin-kws.bin or "
+                 "$MARVIN_KWS_MODEL)")
+      ->check(CLI::IsMember({"neural", "pocketsphinx"}))
+      ->capture_default_str();
+  run.add_option("--sensitivity", o.sensitivity, "Wake word sensitivity 0..1")
+      ->capture_default_str();
+  run.add_option("--audio-device", o.device,
+                 "Without --sim: the ALSA device of the microphone and speaker")
+      ->capture_default_str();
+}
+
+struct LiveAudio {
+  std::unique_ptr<audio::AlsaCapture> microphone;
+  std::unique_ptr<audio::AlsaPlayback> speaker;
+};
+
+std::shared_ptr<LiveAudio> open_live_audio(const VoiceRunOptions& o) {
+  audio::AlsaOptions options;
+  options.device = o.device;
+  auto live = std::make_shared<LiveAudio>();
+  const char* hint =
+      " (no sound card? `marvin run --sim` takes typed requests, `marvin run --sim "
+      "--audio-in FILE.wav` a recording; or choose the device with --audio-device)";
+  try {
+    live->microphone = std::make_unique<audio::AlsaCapture>(options);
+  } catch (const std::exception& e) {
+    throw CliError(std::string("no microphone: ") + e.what() + hint, 1);
+  }
+  try {
+    live->speaker = std::make_unique<audio::AlsaPlayback>(options);
+  } catch (const std::exception& e) {
+    throw CliError(std::string("no speaker: ") + e.what() + hint, 1);
+  }
+  return live;
+}
+
+namespace {
+
+std::atomic<VoiceHost*> interrupted_voice{nullptr};
+
+void stop_voice_on_signal(int) {
+  if (VoiceHost* voice = interrupted_voice.load()) voice->stop();
+}
+
+}  // namespace
+
+void run_voice(std::unique_ptr<Host> host_ptr, const VoiceRunOptions& o,
+               const std::shared_ptr<LiveAudio>& live) {
+  Host& host = *host_ptr;
+  std::vector<std::int16_t> input;
+  if (!live) {
+    try {
+      input = audio::read_speech_file(o.audio_in);
+    } catch (const std::exception& e) {
+      throw CliError(std::string("--audio-in: ") + e.what(), 2);
+    }
+  }
+  VoiceHostOptions options;
+  options.wake_word = o.wake_word;
+  options.sensitivity = o.sensitivity;
+  std::unique_ptr<VoiceHost> voice;
+  try {
+    voice = std::make_unique<VoiceHost>(host, options);
+  } catch (const std::exception& e) {
+    throw CliError(std::string("cannot start the voice loop: ") + e.what(), 2);
+  }
+  host.body().set_light(devices::Light::kAwaiting);
+  host.manager().say("Hello, I'm Marvin.");
+  host.start_scheduler();
+  if (live) {
+    host.show("Marvin is listening on \"" + o.device + "\". Say \"Marvin\", then your request; "
+              "Ctrl-C quits.");
+    interrupted_voice.store(voice.get());
+    std::signal(SIGINT, stop_voice_on_signal);
+  }
+  // The voice thread stands where the console reader stands in typed mode.
+  std::vector<std::int16_t> output;
+  std::exception_ptr failure;
+  std::thread listener([&] {
+    try {
+      if (live) {
+        voice->run_live(*live->microphone, *live->speaker);
+      } else {
+        output = voice->run_recording(input);
+      }
+    } catch (...) {
+      failure = std::current_exception();
+      host.loop().close();
+    }
+  });
+  host.loop().run();
+  listener.join();
+  if (live) {
+    std::signal(SIGINT, SIG_DFL);
+    interrupted_voice.store(nullptr);
+  }
+  host_ptr.reset();  // first: a task or the scheduler may still be talking to the front end
+  voice.reset();
+  if (failure) {
+    try {
+      std::rethrow_exception(failure);
+    } catch (const std::exception& e) {
+      throw CliError(std::string("voice loop: ") + e.what(), 1);
+    }
+  }
+  if (!o.audio_out.empty()) {
+    try {
+      audio::write_speech_file(o.audio_out, output);
+    } catch (const std::exception& e) {
+      throw CliError(std::string("--audio-out: ") + e.what(), 1);
+    }
+    std::printf("wrote %.2f s of audio to %s (aligned with %s)\n",
+                static_cast<double>(output.size()) / 16000.0, o.audio_out.c_str(),
+                o.audio_in.c_str());
+  }
+}
 
 }  // namespace marvin::app

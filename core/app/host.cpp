@@ -13,7 +13,11 @@
 #include "data/scheduler.h"
 #include "devices/serial_body.h"
 
+#include "app/installed_skills.h"
+#include "app/skill_reloader.h"
+#include "app/skill_watcher.h"
 #include "common/log.h"
+#include "store/installer.h"
 #ifdef MARVIN_HAVE_LUA
 #include "scripting/lua_runtime.h"
 #endif
@@ -220,7 +224,17 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
     return id;
   };
   if (!options_.mcu_tty.empty()) {
-    serial_body_ = std::make_unique<devices::SerialBody>(options_.mcu_tty);
+    auto serial = std::make_unique<devices::SerialBody>(options_.mcu_tty);
+    // Wait for the base once, so the first command of a session is not dropped; the link
+    // keeps retrying in the background if the base is not there yet.
+    constexpr std::chrono::seconds kBaseWait{5};
+    if (serial->wait_connected(kBaseWait)) {
+      console_.line("[base: connected on " + options_.mcu_tty + "]");
+    } else {
+      console_.line("[base: not connected on " + options_.mcu_tty + " after " +
+                    std::to_string(kBaseWait.count()) + " s; still trying]");
+    }
+    serial_body_ = std::move(serial);
     mirrored_body_ = std::make_unique<MirroredBody>(body_, *serial_body_);
     services_.body = mirrored_body_.get();
   }
@@ -232,7 +246,10 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
     services_.now_ms = skills::system_now_ms;
   }
   loop_ = std::make_unique<skills::HostLoop>(
-      [this](std::string_view text) { console_.line("Marvin: " + std::string(text)); });
+      [this](std::string_view text) {
+        console_.line("Marvin: " + std::string(text));
+        if (said_) said_(text);
+      });
   registry_ = std::make_unique<skills::Registry>(services_);
 #ifdef MARVIN_HAVE_LUA
   registry_->add_runtime(std::make_unique<scripting::LuaRuntime>());
@@ -240,10 +257,12 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   manager_ = std::make_unique<skills::Manager>(*registry_, *loop_);
   services_.user = manager_.get();
   loop_->attach(*manager_, registry_->interpreter());
+  reloader_ = std::make_unique<SkillReloader>(*registry_);
   // Skill timers (marvin.after) run on the loop, never while a long task runs.
   loop_->set_timers(skills::HostLoop::Timers{
       [this]() -> std::optional<std::int64_t> {
         if (manager_->busy()) return std::nullopt;
+        if (reload_requested_.load()) return services_.now_ms();  // due now
         std::optional<std::int64_t> next;
         for (const auto& skill : registry_->skills()) {
           if (!skill->instance) continue;
@@ -253,7 +272,8 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
         return next;
       },
       [this](std::int64_t now) {
-        if (manager_->busy()) return;
+        if (!manager_->idle()) return;
+        if (reload_requested_.exchange(false)) reload_skills();
         for (const auto& skill : registry_->skills()) {
           if (!skill->instance) continue;
           std::optional<std::int64_t> due = skill->instance->next_timer_ms();
@@ -264,6 +284,7 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
 }
 
 Host::~Host() {
+  watcher_.reset();    // no reload requests from now on
   manager_.reset();    // joins a running task first
   reminders_.reset();  // stops the scheduler's thread
   registry_.reset();  // then the skills go
@@ -303,12 +324,64 @@ void Host::start_scheduler() {
   reminders_->thread = std::thread([r = reminders_.get()] { r->io.run(); });
 }
 
+namespace {
+
+// Finishes an install, upgrade or removal another process left half done (store/README.md).
+void recover_store(const std::filesystem::path& dir) {
+  if (!is_store_directory(dir)) return;
+  try {
+    store::Installer(dir).recover();
+  } catch (const std::exception& e) {
+    log(LogLevel::kWarning, "skills", "cannot recover " + dir.string() + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> Host::watched_skills_dirs() const {
+  std::vector<std::filesystem::path> dirs = options_.skills_dirs;
+  if (!options_.installed_skills_dir.empty()) dirs.push_back(options_.installed_skills_dir);
+  return dirs;
+}
+
 void Host::load() {
   if (options_.builtin_skills) registry_->load_directory(builtin_skills_dir());
-  for (const auto& dir : options_.skills_dirs) registry_->load_directory(dir);
+  for (const auto& dir : watched_skills_dirs()) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) {
+      // A directory asked for by name must exist (the error names it); the default
+      // installed-skills directory need not.
+      if (dir != options_.installed_skills_dir) registry_->load_directory(dir);
+      continue;
+    }
+    recover_store(dir);
+    for (const std::string& line : reloader_->sync(dir)) log(LogLevel::kInfo, "skills", line);
+  }
   for (const std::string& conflict : registry_->conflicts()) {
     log(LogLevel::kWarning, "skills", "template conflict: " + conflict);
   }
+}
+
+std::vector<std::string> Host::reload_skills() {
+  std::vector<std::string> changes;
+  for (const auto& dir : watched_skills_dirs()) {
+    for (std::string& line : reloader_->sync(dir)) {
+      log(LogLevel::kInfo, "skills", line);
+      console_.line("[" + line + "]");
+      changes.push_back(std::move(line));
+    }
+  }
+  return changes;
+}
+
+void Host::request_reload() {
+  reload_requested_.store(true);
+  loop_->wake();
+}
+
+void Host::watch_skills() {
+  if (watcher_) return;
+  watcher_ = std::make_unique<SkillWatcher>(watched_skills_dirs(), [this] { request_reload(); });
 }
 
 std::thread start_console_reader(Host& host) {

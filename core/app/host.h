@@ -5,6 +5,7 @@
 // same output as the skills (start_scheduler()).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -24,6 +25,9 @@
 #include "skills/registry.h"
 
 namespace marvin::app {
+
+class SkillReloader;
+class SkillWatcher;
 
 // Serialises lines written by several threads (the loop, a long task, the body).
 class Console {
@@ -69,6 +73,9 @@ struct HostOptions {
   // base's MCU (/dev/ttyACM0) or the pseudo-terminal link of `marvin-mcu-sim --link PATH`.
   // Empty: the console only.
   std::string mcu_tty;
+  // The store's installed skills (app/installed_skills.h), loaded after `skills_dirs` when
+  // the directory exists; no error when it does not. Empty: none.
+  std::filesystem::path installed_skills_dir;
 };
 
 // Where this build put its built-in skills (<build>/skills).
@@ -85,8 +92,19 @@ class Host {
 
   // Adds a runtime (e.g. Lua) before load().
   void add_runtime(std::unique_ptr<skills::SkillRuntime> runtime);
-  // Loads every skills directory. Errors are in registry().errors().
+  // Loads every skills directory, after finishing any interrupted store operation in those
+  // the store manages (Installer::recover()). Errors are in registry().errors().
   void load();
+  // Skills installed, upgraded, rolled back or removed while running (SkillReloader): the
+  // changes, one line each, also shown on the console as "[skill hello 1.0.0 loaded]". Runs
+  // the reload now: call it on the loop thread while no long task runs, or before run().
+  std::vector<std::string> reload_skills();
+  // Asks for reload_skills() on the loop thread, between utterances and once no long task
+  // runs. Any thread.
+  void request_reload();
+  // Watches the skills directories (SkillWatcher) and requests a reload on each change.
+  // Throws std::runtime_error when the directories cannot be watched.
+  void watch_skills();
   // With the SQLite store: announces what became due while the host was off, then runs
   // the reminder Scheduler on its own thread; due reminders are said through loop()
   // ("Reminder: take my pills", "You missed a reminder: ..."). Call once, before
@@ -99,6 +117,15 @@ class Host {
   skills::Manager& manager() { return *manager_; }
   skills::HostLoop& loop() { return *loop_; }
   devices::Body& body() { return *services_.body; }
+
+  // For a voice front end (app/voice_host.h); set before loop().run(). `said` gets every
+  // sentence Marvin says, after the console showed it, on the thread that said it.
+  void on_said(std::function<void(std::string_view)> said) { said_ = std::move(said); }
+  // A transcript line ("You: ..."), serialised with Marvin's. Any thread.
+  void show(std::string_view line) { console_.line(line); }
+  // Replaces the body the manager and the skills drive (a status light in front of the
+  // console body); `body` must outlive its use. Before load(), or while nothing runs.
+  void set_body(devices::Body& body) { services_.body = &body; }
 
  private:
   HostOptions options_;
@@ -114,8 +141,13 @@ class Host {
   std::unique_ptr<Reminders> reminders_;
   skills::HostServices services_;
   std::unique_ptr<skills::HostLoop> loop_;
+  std::function<void(std::string_view)> said_;
   std::unique_ptr<skills::Registry> registry_;
   std::unique_ptr<skills::Manager> manager_;
+  std::vector<std::filesystem::path> watched_skills_dirs() const;  // skills_dirs + installed
+  std::unique_ptr<SkillReloader> reloader_;
+  std::atomic<bool> reload_requested_{false};
+  std::unique_ptr<SkillWatcher> watcher_;  // stopped first (declared last)
 };
 
 // Starts a thread that posts each non-empty line of standard input (trailing blanks and

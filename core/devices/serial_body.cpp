@@ -22,6 +22,10 @@ SerialBody::SerialBody(LinkOptions options, SweepSettings sweep)
         } else {
           motors_.forget();  // the MCU's deadman stops the wheels
         }
+        // The link's state is already updated: taking the lock orders this notification
+        // after a waiter's check of it.
+        { std::lock_guard lock(connected_mutex_); }
+        connected_changed_.notify_all();
       });
   telemetry_callback_ = link_.add_telemetry_callback([this](const Telemetry& t) {
     if (auto* f = std::get_if<Fault>(&t)) {
@@ -38,6 +42,12 @@ SerialBody::SerialBody(LinkOptions options, SweepSettings sweep)
 SerialBody::~SerialBody() {
   link_.remove_callback(telemetry_callback_);
   link_.remove_callback(state_callback_);
+}
+
+bool SerialBody::wait_connected(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(connected_mutex_);
+  return connected_changed_.wait_for(lock, timeout,
+                                     [this] { return link_.state() == LinkState::kConnected; });
 }
 
 void SerialBody::move(Direction direction, std::uint8_t speed, std::chrono::milliseconds duration) {

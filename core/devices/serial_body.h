@@ -1,6 +1,9 @@
 // Body over the serial link: the real base, or marvin-mcu-sim through its pseudo-terminal.
 #pragma once
 
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <string>
 
 #include "devices/body.h"
@@ -29,6 +32,11 @@ class SerialBody : public Body {
   std::vector<ScanPoint> latest_scan() override;
   void set_light(Light light) override;
 
+  // Waits until the link is connected; false if `timeout` passed first. The body works
+  // without it (commands are dropped while the link is down, state is re-sent on connect);
+  // the host waits once at start so the first command is not lost.
+  bool wait_connected(std::chrono::milliseconds timeout);
+
   SerialLink& link() { return link_; }
   MotorBase& motors() { return motors_; }
   SonarScanner& sonar() { return sonar_; }
@@ -40,6 +48,8 @@ class SerialBody : public Body {
   SonarScanner sonar_;
   StatusLight light_;
   int state_callback_ = 0, telemetry_callback_ = 0;
+  std::mutex connected_mutex_;  // with connected_changed_: wait_connected()
+  std::condition_variable connected_changed_;
 };
 
 }  // namespace marvin::devices

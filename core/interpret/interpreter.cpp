@@ -148,6 +148,13 @@ void Interpreter::add(const IntentSpec& spec) {
   impl_->intents.push_back(std::move(intent));
 }
 
+std::size_t Interpreter::remove_skill(std::string_view skill_id) {
+  auto& intents = impl_->intents;
+  std::size_t before = intents.size();
+  std::erase_if(intents, [&](const CompiledIntent& i) { return i.spec.skill_id == skill_id; });
+  return before - intents.size();
+}
+
 std::size_t Interpreter::size() const { return impl_->intents.size(); }
 
 std::vector<std::string> Interpreter::conflicts() const {

@@ -34,8 +34,8 @@
 //   kList     -> the list item as spelled in SlotSpec::values
 //   kText     -> the words as heard (normalised), 1..8 words
 //
-// Thread safety: add() must not run concurrently with anything else; the const members may be
-// called from any number of threads at once.
+// Thread safety: add() and remove_skill() must not run concurrently with anything else; the
+// const members may be called from any number of threads at once.
 #pragma once
 
 #include <cstdint>
@@ -114,7 +114,12 @@ class Interpreter {
   // undeclared or duplicate slot, or an empty skill_id/intent; on error nothing is added.
   void add(const IntentSpec& spec);
 
-  // Number of intents added so far.
+  // Unregisters every intent of `skill_id` (a skill being unloaded or replaced by another
+  // version); returns how many were removed. Words only it used stay in the vocabulary
+  // (harmless: no template refers to them). Same thread rule as add().
+  std::size_t remove_skill(std::string_view skill_id);
+
+  // Number of intents added so far (and not removed).
   std::size_t size() const;
 
   // Sentences claimed by two different skills, one line each, e.g.

@@ -447,6 +447,12 @@ GrammarResult build_command_grammar(std::span<const GrammarIntent> intents,
   }
   std::string public_rule;
   for (const std::string& t : top) public_rule += (public_rule.empty() ? "" : " | ") + t;
+  if (!options.optional_prefix.empty()) {
+    renderer.slots.clear();
+    std::optional<std::string> prefix =
+        render_text(options.optional_prefix, "optional prefix \"" + options.optional_prefix + "\"");
+    if (prefix && !prefix->empty()) public_rule = "[" + *prefix + "] (" + public_rule + ")";
+  }
   result.jsgf = "#JSGF V1.0;\ngrammar marvin;\npublic <command> = " + public_rule + ";\n" + rules;
   return result;
 }

@@ -52,6 +52,11 @@ struct GrammarOptions {
   // accuracy on whole commands; for the answer to a question ("Whom should I call?") build
   // a small grammar from that one slot instead (Reply::answer_grammar in voice_loop.h).
   bool accept_bare_slot_values = false;
+  // Words every sentence may start with, e.g. the wake word: a detector reports the end of
+  // "marvin" a little early, and the rest of it in front of the command throws the search
+  // off ("marvin, tell me the time" heard as "delete reminder"); "[marvin]" absorbs it. The
+  // recognised text then starts with these words when they were heard. "" = none.
+  std::string optional_prefix;
 
   static std::vector<std::string> default_free_text_words();
 };

@@ -10,6 +10,17 @@
 // match", not a forced wrong sentence. The margin is thin for short commands; tune the
 // threshold on recordings from the robot's own microphone.
 //
+// The scale depends on the grammar's size, measured with the host's grammar (two built-in
+// skills, ~30 templates, dates, numbers, contact and task phrases): pocketsphinx scores each
+// frame against the best senone among those its search keeps active, so a larger grammar
+// makes the same sentence score lower ("tell me the time": +7.9 alone, -23 in the host's
+// grammar), and with the default beams its path is pruned in favour of a worse one that
+// fits the start better. For large grammars pass {"-compallsen", "yes"} (every senone, every
+// frame: a scale independent of the grammar, ~30% more CPU) and wider beams, and set the
+// threshold on that scale: the host's voice front end uses kLargeGrammarSettings and
+// kLargeGrammarThreshold below (espeak-ng speech: in-grammar -22..-7, out of grammar -32..-27
+// or no path, one near miss at -19).
+//
 // Usage per utterance: begin(), feed() as audio arrives, end() for the result. Not
 // thread-safe; one utterance at a time. set_grammar() between utterances.
 #pragma once
@@ -41,6 +52,11 @@ struct Recognition {
   std::string reason;       // when !matched: why ("no sentence of the grammar fits", ...)
   std::int64_t samples = 0; // audio length of the utterance
 };
+
+// Settings for grammars of many templates (see above).
+inline const std::vector<std::pair<std::string, std::string>> kLargeGrammarSettings = {
+    {"-compallsen", "yes"}, {"-beam", "1e-80"}, {"-pbeam", "1e-80"}, {"-wbeam", "1e-60"}};
+inline constexpr float kLargeGrammarThreshold = -24.0f;
 
 class SpeechRecognizer {
  public:

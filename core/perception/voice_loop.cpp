@@ -21,7 +21,10 @@ VoiceLoop::VoiceLoop(WakeWordDetector& wake_word, SpeechRecognizer& recognizer,
       synthesizer_(synthesizer),
       responder_(std::move(responder)),
       sink_(std::move(sink)),
-      endpointer_(options.endpointer) {
+      options_(options),
+      endpointer_(options.endpointer),
+      command_grammar_(recognizer.grammar()),
+      silence_(1600, 0) {
   detections_.reserve(4);
   wake_word_.reset();
 }
@@ -32,48 +35,132 @@ void VoiceLoop::set_state(VoiceState state) {
   if (state_listener_) state_listener_(state);
 }
 
+void VoiceLoop::reset_wake_word() {
+  wake_word_.reset();
+  wake_word_base_ = samples_;
+}
+
 void VoiceLoop::start_listening(std::int64_t wake_sample) {
   turn_ = VoiceTurn{};
   turn_.wake_sample = wake_sample;
   listen_start_ = samples_;
   endpointer_.reset();
+  // Setting the grammar in use again costs nothing.
+  if (wake_sample < 0 && !answer_grammar_.empty()) {
+    recognizer_.set_grammar(answer_grammar_);
+  } else {
+    recognizer_.set_grammar(command_grammar_);
+  }
+  answer_grammar_.clear();
+  answer_expected_ = false;
   recognizer_.begin();
   set_state(VoiceState::kListening);
 }
 
-void VoiceLoop::feed(std::span<const std::int16_t> samples) {
-  while (!samples.empty()) {
-    if (state_ == VoiceState::kAwaiting) {
-      detections_.clear();
-      // Through the detector in 10 ms steps, so the command after the keyword is split off
-      // where the keyword ended.
-      const std::size_t n = std::min<std::size_t>(160, samples.size());
-      wake_word_.process(samples.first(n), detections_);
-      samples_ += static_cast<std::int64_t>(n);
-      samples = samples.subspan(n);
-      if (!detections_.empty()) {
-        start_listening(wake_word_base_ + detections_.back().end_sample);
-      }
-      continue;
-    }
-    // Listening: the endpointer decides how much of this chunk belongs to the command.
-    const std::int64_t before = endpointer_.samples_seen();
-    const EndpointState state = endpointer_.push(samples);
-    const auto used = static_cast<std::size_t>(endpointer_.samples_seen() - before);
-    recognizer_.feed(samples.first(used));
-    samples_ += static_cast<std::int64_t>(used);
-    samples = samples.subspan(used);
-    if (state == EndpointState::kEnded || state == EndpointState::kTimedOut) {
-      complete_turn(state == EndpointState::kTimedOut, std::chrono::steady_clock::now());
-    }
+void VoiceLoop::emit(std::size_t n) {
+  std::size_t played = 0;
+  if (state_ != VoiceState::kListening && speaking()) {
+    played = std::min(n, playback_.size() - played_);
+    if (sink_) sink_(std::span<const std::int16_t>(playback_).subspan(played_, played));
+    played_ += played;
+  }
+  if (!options_.aligned_output || !sink_) return;
+  for (std::size_t rest = n - played; rest > 0;) {
+    const std::size_t m = std::min(rest, silence_.size());
+    sink_(std::span<const std::int16_t>(silence_).first(m));
+    rest -= m;
   }
 }
 
+void VoiceLoop::feed(std::span<const std::int16_t> samples) {
+  while (!samples.empty()) {
+    if (state_ == VoiceState::kListening) {
+      // The endpointer decides how much of this chunk belongs to the command.
+      const std::int64_t before = endpointer_.samples_seen();
+      const EndpointState state = endpointer_.push(samples);
+      const auto used = static_cast<std::size_t>(endpointer_.samples_seen() - before);
+      recognizer_.feed(samples.first(used));
+      emit(used);
+      samples_ += static_cast<std::int64_t>(used);
+      samples = samples.subspan(used);
+      if (state == EndpointState::kEnded || state == EndpointState::kTimedOut) {
+        complete_turn(state == EndpointState::kTimedOut, std::chrono::steady_clock::now());
+      }
+      continue;
+    }
+    // Awaiting or speaking: through the detector in 10 ms steps, so the command after the
+    // keyword is split off where the keyword ended; a step never runs past the end of the
+    // speech, so listening for an answer starts exactly where the question ended.
+    const bool was_speaking = speaking();
+    std::size_t n = std::min<std::size_t>(160, samples.size());
+    if (was_speaking) n = std::min(n, playback_.size() - played_);
+    emit(n);
+    detections_.clear();
+    wake_word_.process(samples.first(n), detections_);
+    samples_ += static_cast<std::int64_t>(n);
+    samples = samples.subspan(n);
+    if (!detections_.empty()) {
+      if (speaking()) {  // barge-in: stop talking, listen
+        playback_.clear();
+        played_ = 0;
+        if (barge_in_listener_) barge_in_listener_(samples_);
+      }
+      answer_expected_ = false;
+      answer_grammar_.clear();
+      start_listening(wake_word_base_ + detections_.back().end_sample);
+      continue;
+    }
+    if (was_speaking && !speaking()) after_speech();
+  }
+}
+
+void VoiceLoop::after_speech() {
+  playback_.clear();
+  played_ = 0;
+  if (answer_expected_) {
+    start_listening(-1);
+  } else {
+    set_state(VoiceState::kAwaiting);
+  }
+}
+
+void VoiceLoop::queue_speech(const std::string& text) {
+  if (text.empty()) return;
+  if (!speaking()) {
+    playback_.clear();
+    played_ = 0;
+  }
+  synthesizer_.speak(text, [&](std::span<const std::int16_t> chunk) {
+    playback_.insert(playback_.end(), chunk.begin(), chunk.end());
+  });
+}
+
+void VoiceLoop::say(const std::string& text) {
+  queue_speech(text);
+  if (state_ == VoiceState::kAwaiting && speaking()) set_state(VoiceState::kExecuting);
+}
+
+void VoiceLoop::expect_answer(const std::string& answer_grammar) {
+  if (state_ == VoiceState::kListening) return;
+  answer_expected_ = true;
+  answer_grammar_ = answer_grammar;
+  if (!speaking()) after_speech();
+}
+
 void VoiceLoop::finish() {
+  finishing_ = true;
   if (state_ == VoiceState::kListening) {
     complete_turn(endpointer_.state() == EndpointState::kWaitingForSpeech,
                   std::chrono::steady_clock::now());
   }
+  // No more input can interrupt it: the rest of the speech plays to its end.
+  if (speaking()) {
+    if (sink_) sink_(std::span<const std::int16_t>(playback_).subspan(played_));
+    playback_.clear();
+    played_ = 0;
+  }
+  if (state_ == VoiceState::kExecuting) set_state(VoiceState::kAwaiting);
+  finishing_ = false;
 }
 
 void VoiceLoop::complete_turn(bool timed_out, std::chrono::steady_clock::time_point decided) {
@@ -82,37 +169,28 @@ void VoiceLoop::complete_turn(bool timed_out, std::chrono::steady_clock::time_po
   turn_.speech_end_sample = listen_start_ + endpointer_.speech_end();
   turn_.endpoint_sample = samples_;
   turn_.recognition = recognizer_.end();
+  // Back to the command grammar at once (costs nothing when it is in use already).
+  recognizer_.set_grammar(command_grammar_);
   set_state(VoiceState::kExecuting);
-  if (!timed_out) {
-    turn_.reply = responder_(turn_.recognition);
-    bool first = true;
-    if (!turn_.reply.text.empty()) {
-      const bool complete = synthesizer_.speak(turn_.reply.text, [&](std::span<const std::int16_t> chunk) {
-        if (first) {
-          turn_.compute_to_first_audio = std::chrono::steady_clock::now() - decided;
-          first = false;
-        }
-        sink_(chunk);
-      });
-      turn_.reply_interrupted = !complete;
+  const bool answering = turn_.wake_sample < 0;
+  // Silence after the wake word needs no answer; silence after a question does (ask again
+  // or give up), except at the end of the input.
+  if (!timed_out || (answering && !finishing_)) {
+    if (timed_out) {
+      turn_.recognition = Recognition{};
+      turn_.recognition.reason = "nothing said";
     }
+    turn_.reply = responder_(turn_.recognition);
+    const std::size_t queued = playback_.size();
+    queue_speech(turn_.reply.text);
+    turn_.reply_samples = static_cast<std::int64_t>(playback_.size() - queued);
+    turn_.compute_to_first_audio = std::chrono::steady_clock::now() - decided;
   }
   if (turn_listener_) turn_listener_(turn_);
-  if (!command_grammar_.empty()) {
-    recognizer_.set_grammar(command_grammar_);
-    command_grammar_.clear();
-  }
-  if (!timed_out && turn_.reply.expects_answer) {
-    if (!turn_.reply.answer_grammar.empty()) {
-      command_grammar_ = recognizer_.grammar();
-      recognizer_.set_grammar(turn_.reply.answer_grammar);
-    }
-    start_listening(-1);
-    return;
-  }
-  wake_word_.reset();
-  wake_word_base_ = samples_;
-  set_state(VoiceState::kAwaiting);
+  reset_wake_word();
+  answer_expected_ = turn_.reply.expects_answer;
+  answer_grammar_ = turn_.reply.answer_grammar;
+  if (!speaking()) after_speech();
 }
 
 }  // namespace marvin::perception

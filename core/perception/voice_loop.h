@@ -7,13 +7,36 @@
 //                                     audio goes to the recognizer until the endpointer hears
 //                                     the end of speech, or its timeout;
 //   kExecuting  (yellow)              the recognised sentence (or "no match") goes to the
-//                                     responder, whose reply is spoken through the sink;
-//                                     then back to kAwaiting (or kListening for an answer).
+//                                     responder; its reply is synthesised and then plays
+//                                     (see "Timeline"); then back to kAwaiting, or kListening
+//                                     when the reply expects an answer.
 //
-// Everything happens synchronously inside feed(), on the caller's thread: audio fed while
-// executing is the audio after the command, processed when feed() continues. The graph
-// version (issue 2's Latch between wake word and recognizer) splits the same parts into
-// nodes.
+// Everything happens synchronously inside feed(), on the caller's thread. The graph version
+// (issue 2's Latch between wake word and recognizer) splits the same parts into nodes.
+//
+// Timeline. Time is the input stream: sample i of the output belongs to sample i of the
+// input. A reply starts playing at the sample where the endpointer decided (the responder
+// and the synthesis take no stream time: on a recording they are free, live the speaker
+// runs that much behind) and plays for its length while the input keeps being processed:
+//   - during playback the wake-word detector listens (state kExecuting). The wake word cuts
+//     the reply where it was detected (barge-in: the robot stops talking to listen, and a
+//     real microphone would otherwise hear its own voice over the command); the cut reply
+//     is not resumed, on_barge_in() is told, and the command after it is heard as usual.
+//     "Marvin, stop" therefore silences the reply at "marvin", and the responder gets
+//     "stop" (the host stops the running task);
+//   - a reply that expects an answer is a question: listening for the answer starts when
+//     the question has finished playing (a person answers after the question), without
+//     the wake word, with the reply's answer grammar;
+//   - say() queues more speech (a long task's progress, a reminder that fired) behind what
+//     is playing; it plays whenever the loop is not listening.
+// With VoiceLoopOptions::aligned_output the sink receives one output sample for every input
+// sample (reply audio or silence), plus what is still playing at finish(): written to a WAV
+// it lines up with the recording. Without it, the sink receives only the reply samples,
+// each as its time comes (the rest of a reply at finish()).
+//
+// A question that gets no answer (the endpointer times out) is answered with an empty,
+// unmatched Recognition whose reason is "nothing said", so the asker can ask again or give
+// up; after the wake word, silence just returns to kAwaiting.
 #pragma once
 
 #include <chrono>
@@ -37,7 +60,7 @@ const char* to_string(VoiceState state);
 
 struct Reply {
   std::string text;             // spoken; empty says nothing
-  bool expects_answer = false;  // listen again right after speaking (no wake word needed)
+  bool expects_answer = false;  // listen after speaking, no wake word needed
   // With expects_answer: the JSGF grammar for the answer (e.g. build_command_grammar of one
   // intent "[it's|to|for] {slot}" plus the conversation phrases); empty keeps the command
   // grammar. The command grammar is restored after the answer.
@@ -53,14 +76,16 @@ struct VoiceTurn {
   bool timed_out = false;                 // nothing was said
   Recognition recognition;
   Reply reply;
-  // Computation time from the endpoint decision to the first reply sample handed to the sink
-  // (recognizer finish + responder + synthesis of the first chunk), measured by the loop.
+  // Computation from the endpoint decision until the reply is ready to play (recognizer
+  // finish + responder + synthesis of the whole reply), measured by the loop: on a live
+  // device, the time the speaker runs behind the stream.
   std::chrono::nanoseconds compute_to_first_audio{0};
-  bool reply_interrupted = false;
+  std::int64_t reply_samples = 0;         // length of the synthesised reply
 };
 
 struct VoiceLoopOptions {
   EndpointerOptions endpointer;
+  bool aligned_output = false;  // see "Timeline" above
 };
 
 class VoiceLoop {
@@ -68,44 +93,73 @@ class VoiceLoop {
   using Responder = std::function<Reply(const Recognition&)>;
   using AudioSink = std::function<void(std::span<const std::int16_t>)>;
 
-  // The parts are borrowed and must outlive the loop; the recognizer must have a grammar.
+  // The parts are borrowed and must outlive the loop; the recognizer must have a grammar,
+  // which becomes the command grammar.
   VoiceLoop(WakeWordDetector& wake_word, SpeechRecognizer& recognizer,
             SpeechSynthesizer& synthesizer, Responder responder, AudioSink sink,
             const VoiceLoopOptions& options = {});
 
   // Called on every state change, with the new state (drive the status light from here).
   void on_state(std::function<void(VoiceState)> listener) { state_listener_ = std::move(listener); }
-  // Called at the end of each turn.
+  // Called at the end of each turn, when the reply has been synthesised (before it plays).
   void on_turn(std::function<void(const VoiceTurn&)> listener) { turn_listener_ = std::move(listener); }
+  // Called when the wake word cut speech short, with the stream sample of the cut.
+  void on_barge_in(std::function<void(std::int64_t)> listener) { barge_in_listener_ = std::move(listener); }
 
   // 16 kHz mono PCM16, any chunk size.
   void feed(std::span<const std::int16_t> samples);
 
-  // Ends a command in progress as if silence followed (end of a recording).
+  // Ends a command in progress as if silence followed (end of a recording) and delivers
+  // the rest of the speech queued to the sink.
   void finish();
 
+  // Queues `text` to be spoken after what is playing (see "Timeline"). Empty is ignored.
+  void say(const std::string& text);
+  // The host asked a question on its own (a long task's ask()): listen for the answer once
+  // the speech queued now has played, with `answer_grammar` ("" = the command grammar).
+  // Ignored while listening: what is being said goes to the question anyway.
+  void expect_answer(const std::string& answer_grammar);
+  // Replaces the command grammar (skills or contacts changed); used from the next command
+  // on, never inside an utterance. Checked only when it is used (feed() then throws the
+  // recognizer's std::runtime_error): build it with build_command_grammar().
+  void set_command_grammar(std::string jsgf) { command_grammar_ = std::move(jsgf); }
+  const std::string& command_grammar() const { return command_grammar_; }
+
   VoiceState state() const { return state_; }
+  bool speaking() const { return played_ < playback_.size(); }
   std::int64_t samples_fed() const { return samples_; }
 
  private:
   void set_state(VoiceState state);
   void start_listening(std::int64_t wake_sample);
   void complete_turn(bool timed_out, std::chrono::steady_clock::time_point decided);
+  void queue_speech(const std::string& text);
+  void after_speech();                 // playback over: listen for an answer, or await
+  void emit(std::size_t n);            // n output samples at the current stream position
+  void reset_wake_word();
 
   WakeWordDetector& wake_word_;
   SpeechRecognizer& recognizer_;
   SpeechSynthesizer& synthesizer_;
   Responder responder_;
   AudioSink sink_;
+  VoiceLoopOptions options_;
   Endpointer endpointer_;
   std::function<void(VoiceState)> state_listener_;
   std::function<void(const VoiceTurn&)> turn_listener_;
+  std::function<void(std::int64_t)> barge_in_listener_;
   VoiceState state_ = VoiceState::kAwaiting;
   std::int64_t samples_ = 0;
   std::int64_t wake_word_base_ = 0;  // stream sample where the detector's numbering starts
   std::int64_t listen_start_ = 0;
   VoiceTurn turn_;
-  std::string command_grammar_;  // saved while an answer grammar is in use
+  std::string command_grammar_;
+  bool answer_expected_ = false;     // listen without the wake word after the speech
+  bool finishing_ = false;           // inside finish()
+  std::string answer_grammar_;
+  std::vector<std::int16_t> playback_;  // speech queued; [played_, size) still to play
+  std::size_t played_ = 0;
+  std::vector<std::int16_t> silence_;
   std::vector<WakeWordDetection> detections_;
 };
 

@@ -29,6 +29,14 @@ void HostLoop::close() {
   changed_.notify_all();
 }
 
+void HostLoop::wake() {
+  {
+    std::lock_guard lock(mutex_);
+    ++events_;
+  }
+  changed_.notify_all();
+}
+
 void HostLoop::interrupt() {
   {
     std::lock_guard lock(mutex_);
@@ -55,6 +63,13 @@ void HostLoop::run_due_timers() {
   if (*next <= now) timers_.run(now);
 }
 
+void HostLoop::notify_waiting(std::unique_lock<std::mutex>& lock, Waiting what) {
+  if (!waiting_) return;
+  lock.unlock();
+  waiting_(what);
+  lock.lock();
+}
+
 std::optional<std::string> HostLoop::pop(bool run_timers) {
   std::unique_lock lock(mutex_);
   if (run_timers && timers_.next && timers_.run && timers_.now) {
@@ -67,6 +82,8 @@ std::optional<std::string> HostLoop::pop(bool run_timers) {
       std::int64_t now = timers_.now();
       lock.lock();
       if (!input_.empty() || closed_) break;
+      // A post() while unlocked bumps events_, so the wait below returns at once.
+      notify_waiting(lock, question_pending_ ? Waiting::kAnswer : Waiting::kCommand);
       auto woken = [&] { return events_ != seen; };
       if (next) {
         changed_.wait_for(lock, std::chrono::milliseconds(*next - now), woken);
@@ -75,6 +92,9 @@ std::optional<std::string> HostLoop::pop(bool run_timers) {
       }
     }
   } else {
+    if (input_.empty() && !closed_) {
+      notify_waiting(lock, run_timers && !question_pending_ ? Waiting::kCommand : Waiting::kAnswer);
+    }
     changed_.wait(lock, [&] { return !input_.empty() || closed_; });
   }
   if (input_.empty()) return std::nullopt;
@@ -112,6 +132,7 @@ std::optional<std::string> HostLoop::ask(std::string_view question) {
   question_pending_ = true;
   answer_.reset();
   changed_.notify_all();  // a held utterance may be the answer
+  if (input_.empty() && !holding_ && !closed_) notify_waiting(lock, Waiting::kAnswer);
   changed_.wait(lock, [&] {
     return answer_.has_value() || interrupted_ || (closed_ && input_.empty() && !holding_);
   });
@@ -144,7 +165,12 @@ void HostLoop::route(std::string line) {
     if (manager_) manager_->handle(line);
     return;
   }
+  bool told_held = false;
   for (;;) {
+    if (!told_held && !question_pending_ && manager_->busy() && !stop_queued()) {
+      told_held = true;
+      notify_waiting(lock, Waiting::kHeld);
+    }
     changed_.wait(lock, [&] { return question_pending_ || !manager_->busy() || stop_queued(); });
     if (question_pending_) {
       answer_ = std::move(line);

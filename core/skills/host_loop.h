@@ -44,6 +44,14 @@ class HostLoop : public User {
   // Called on the loop thread with each utterance as it is taken (the console echoes
   // piped input with it). Set before run().
   void on_heard(std::function<void(std::string_view)> heard) { heard_ = std::move(heard); }
+  // Called when the loop starts waiting for the user with no utterance queued, so a voice
+  // front end knows whether to listen with the wake word: kCommand (the next conversation;
+  // a long task may be running), kAnswer (a question waits for the answer: the loop's own
+  // ask(), or a task's), kHeld (an utterance is held until the running task asks or ends).
+  // Called on the loop thread or a task's thread, never with the loop's lock held; may
+  // repeat. Set before run().
+  enum class Waiting { kCommand, kAnswer, kHeld };
+  void on_waiting(std::function<void(Waiting)> waiting) { waiting_ = std::move(waiting); }
 
   // Skill timers (marvin.after). Between utterances, run() asks `next` when the next timer
   // is due (host clock, Unix ms; nullopt: none, e.g. while a long task runs) and calls
@@ -58,6 +66,9 @@ class HostLoop : public User {
 
   void post(std::string utterance);  // any thread
   void close();                      // end of input; any thread
+  // Makes a loop waiting between utterances ask Timers::next again now (any thread): how
+  // the host gets work onto the loop thread, e.g. a skills reload (core/app/host.h).
+  void wake();
   void run();                        // the host loop; returns after close() and the last task
 
   void say(std::string_view text) override;
@@ -76,6 +87,8 @@ class HostLoop : public User {
 
   std::function<void(std::string_view)> speak_;
   std::function<void(std::string_view)> heard_;
+  std::function<void(Waiting)> waiting_;
+  void notify_waiting(std::unique_lock<std::mutex>& lock, Waiting what);  // unlocks meanwhile
   Timers timers_;
   std::mutex speak_mutex_;
   Manager* manager_ = nullptr;

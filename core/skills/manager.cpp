@@ -102,6 +102,11 @@ bool Manager::wait_idle(std::chrono::milliseconds timeout) {
   return changed_.wait_for(lock, timeout, [&] { return !busy_; });
 }
 
+bool Manager::idle() {
+  join_finished();
+  return !busy();
+}
+
 void Manager::join_finished() {
   if (busy()) return;
   if (worker_.joinable()) worker_.join();

@@ -61,6 +61,10 @@ class Manager : public User {
   bool busy() const;
   // Waits until no long task runs; false if `timeout` passed first.
   bool wait_idle(std::chrono::milliseconds timeout);
+  // True when no long task runs, after joining the finished task's threads: from then on
+  // nothing but the caller touches a LoadedSkill, so the registry may unload skills. The
+  // host loop's thread only (like handle()).
+  bool idle();
 
   // User, for the skills (forwarded to the real user).
   void say(std::string_view text) override;

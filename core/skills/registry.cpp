@@ -1,6 +1,8 @@
 #include "skills/registry.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
 
 #include "common/log.h"
@@ -44,6 +46,89 @@ interpret::IntentSpec intent_spec(const Manifest& manifest, const IntentDecl& in
   return spec;
 }
 
+namespace {
+
+namespace fs = std::filesystem;
+
+// Host API range and templates. Templates are compiled on a scratch interpreter so a bad one
+// leaves the real interpreter untouched; returns the specs to register.
+std::vector<interpret::IntentSpec> checked_intents(const Manifest& manifest) {
+  const std::string who = "skill '" + manifest.id + "' (" + manifest.file.string() + ")";
+  ApiVersion host{MARVIN_ROBOT_API_MAJOR, MARVIN_ROBOT_API_MINOR};
+  if (!manifest.accepts_host_api(host)) {
+    throw std::runtime_error(
+        who + ": needs Robot API " + std::to_string(manifest.host_api_min.major) + "." +
+        std::to_string(manifest.host_api_min.minor) + " to " +
+        std::to_string(manifest.host_api_max.major) + "." +
+        std::to_string(manifest.host_api_max.minor) + " (\"host_api\") but this host has " +
+        std::to_string(host.major) + "." + std::to_string(host.minor));
+  }
+  std::vector<interpret::IntentSpec> specs;
+  interpret::Interpreter scratch;
+  for (const IntentDecl& intent : manifest.intents) {
+    specs.push_back(intent_spec(manifest, intent));
+    try {
+      scratch.add(specs.back());
+    } catch (const std::exception& e) {
+      throw std::runtime_error(manifest.file.string() + ": " + e.what());
+    }
+  }
+  return specs;
+}
+
+// Newest modification time and number of files under a plain skill folder: editing any file
+// (main.lua, skill.json) changes it. Bounded, so a huge folder cannot stall the host loop.
+std::string plain_stamp(const fs::path& dir) {
+  std::error_code ec;
+  // file_clock's epoch is implementation-defined: counts may be negative.
+  std::int64_t newest = std::numeric_limits<std::int64_t>::min();
+  std::size_t files = 0;
+  auto it = fs::recursive_directory_iterator(
+      dir, fs::directory_options::skip_permission_denied, ec);
+  for (; !ec && it != fs::recursive_directory_iterator() && files < 4096; it.increment(ec)) {
+    std::error_code file_ec;
+    if (!it->is_regular_file(file_ec)) continue;
+    ++files;
+    auto time = fs::last_write_time(it->path(), file_ec);
+    if (!file_ec) newest = std::max<std::int64_t>(newest, time.time_since_epoch().count());
+  }
+  return "plain:" + std::to_string(newest) + ":" + std::to_string(files);
+}
+
+}  // namespace
+
+std::vector<SkillSource> find_skills(const std::filesystem::path& skills_dir) {
+  std::vector<SkillSource> found;
+  std::error_code ec;
+  if (!fs::is_directory(skills_dir, ec)) return found;
+  std::vector<fs::path> entries;
+  for (auto it = fs::directory_iterator(skills_dir, ec);
+       !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    entries.push_back(it->path());
+  }
+  std::sort(entries.begin(), entries.end());
+  for (const fs::path& entry : entries) {
+    std::string name = entry.filename().string();
+    if (name.empty() || name.front() == '.' || !fs::is_directory(entry, ec)) continue;
+    fs::path current = entry / "current";
+    if (fs::is_symlink(fs::symlink_status(current, ec)) || fs::exists(current, ec)) {
+      // The store layout: load what `current` names now, by its resolved path.
+      fs::path resolved = fs::canonical(current, ec);
+      if (ec || !fs::exists(resolved / "skill.json", ec)) continue;
+      found.push_back({entry, resolved, true, resolved.string()});
+    } else if (fs::exists(entry / "skill.json", ec)) {
+      found.push_back({entry, entry, false, plain_stamp(entry)});
+    }
+  }
+  return found;
+}
+
+Manifest check_skill(const std::filesystem::path& skill_dir) {
+  Manifest manifest = load_manifest(skill_dir / "skill.json");
+  checked_intents(manifest);
+  return manifest;
+}
+
 Registry::Registry(HostServices& services) : services_(services) {
   add_runtime(std::make_unique<NativeRuntime>());
 }
@@ -66,41 +151,56 @@ std::size_t Registry::load_directory(const std::filesystem::path& skills_dir) {
     log(LogLevel::kWarning, "skills", errors_.back().message);
     return 0;
   }
-  std::vector<std::filesystem::path> dirs;
-  for (const auto& entry : std::filesystem::directory_iterator(skills_dir, ec)) {
-    if (entry.is_directory() && std::filesystem::exists(entry.path() / "skill.json")) {
-      dirs.push_back(entry.path());
-    }
-  }
-  std::sort(dirs.begin(), dirs.end());
   std::size_t loaded = 0;
-  for (const auto& dir : dirs) loaded += load_skill(dir) ? 1 : 0;
+  for (const SkillSource& source : find_skills(skills_dir)) loaded += load_skill(source) ? 1 : 0;
   return loaded;
 }
 
 bool Registry::load_skill(const std::filesystem::path& skill_dir) {
+  return load_skill(SkillSource{skill_dir, skill_dir, false, {}});
+}
+
+bool Registry::load_skill(const SkillSource& source) {
+  std::erase_if(errors_, [&](const LoadError& e) { return e.where == source.origin; });
   try {
-    Manifest manifest = load_manifest(skill_dir / "skill.json");
+    Manifest manifest = load_manifest(source.dir / "skill.json");
     auto runtime = runtimes_.find(manifest.kind);
     if (runtime == runtimes_.end()) {
       throw std::runtime_error("skill '" + manifest.id + "': no runtime for kind \"" +
                                manifest.kind + "\" in this host");
     }
     SkillRuntime& rt = *runtime->second;
-    install(manifest, skill_dir, [&](LoadedSkill& skill) {
-      return rt.load(skill.manifest, skill_dir, host_robot_api(), skill.context->host());
+    install(manifest, source.dir, source.origin, source.stamp, [&](LoadedSkill& skill) {
+      return rt.load(skill.manifest, source.dir, host_robot_api(), skill.context->host());
     });
     return true;
   } catch (const std::exception& e) {
-    errors_.push_back({skill_dir, e.what()});
-    log(LogLevel::kError, "skills", std::string("skipped ") + skill_dir.string() + ": " + e.what());
+    errors_.push_back({source.origin, e.what()});
+    log(LogLevel::kError, "skills",
+        std::string("skipped ") + source.dir.string() + ": " + e.what());
     return false;
   }
 }
 
+bool Registry::unload(const std::string& skill_id) {
+  auto it = std::find_if(skills_.begin(), skills_.end(),
+                         [&](const auto& skill) { return skill->manifest.id == skill_id; });
+  if (it == skills_.end()) return false;
+  // Intents first, so nothing can be matched to a skill that is going; then the instance
+  // (it may call back into its context while shutting down), then the context.
+  interpreter_.remove_skill(skill_id);
+  std::unique_ptr<LoadedSkill> skill = std::move(*it);
+  skills_.erase(it);
+  skill->instance.reset();
+  log(LogLevel::kInfo, "skills",
+      "unloaded " + skill->manifest.id + " " + skill->manifest.version.text);
+  return true;
+}
+
 LoadedSkill& Registry::add_native(const Manifest& manifest,
                                   const marvin_skill_descriptor* descriptor) {
-  return install(manifest, manifest.file.parent_path(), [&](LoadedSkill& skill) {
+  return install(manifest, manifest.file.parent_path(), manifest.file.parent_path(), {},
+                 [&](LoadedSkill& skill) {
     return make_native_instance(descriptor, skill.manifest, host_robot_api(),
                                 skill.context->host());
   });
@@ -108,36 +208,19 @@ LoadedSkill& Registry::add_native(const Manifest& manifest,
 
 LoadedSkill& Registry::install(
     const Manifest& manifest, const std::filesystem::path& dir,
+    const std::filesystem::path& origin, const std::string& stamp,
     const std::function<std::unique_ptr<SkillInstance>(LoadedSkill&)>& load_code) {
   const std::string who = "skill '" + manifest.id + "' (" + manifest.file.string() + ")";
   if (find(manifest.id)) {
     throw std::runtime_error(who + ": a skill with this id is already loaded from " +
                              find(manifest.id)->dir.string());
   }
-  ApiVersion host{MARVIN_ROBOT_API_MAJOR, MARVIN_ROBOT_API_MINOR};
-  if (!manifest.accepts_host_api(host)) {
-    throw std::runtime_error(
-        who + ": needs Robot API " + std::to_string(manifest.host_api_min.major) + "." +
-        std::to_string(manifest.host_api_min.minor) + " to " +
-        std::to_string(manifest.host_api_max.major) + "." +
-        std::to_string(manifest.host_api_max.minor) + " (\"host_api\") but this host has " +
-        std::to_string(host.major) + "." + std::to_string(host.minor));
-  }
-  // Templates are compiled on a scratch interpreter first so a bad one leaves the real
-  // interpreter untouched.
-  std::vector<interpret::IntentSpec> specs;
-  interpret::Interpreter scratch;
-  for (const IntentDecl& intent : manifest.intents) {
-    specs.push_back(intent_spec(manifest, intent));
-    try {
-      scratch.add(specs.back());
-    } catch (const std::exception& e) {
-      throw std::runtime_error(manifest.file.string() + ": " + e.what());
-    }
-  }
+  std::vector<interpret::IntentSpec> specs = checked_intents(manifest);
   auto skill = std::make_unique<LoadedSkill>();
   skill->manifest = manifest;
   skill->dir = dir;
+  skill->origin = origin;
+  skill->stamp = stamp;
   skill->context = std::make_unique<SkillContext>(manifest.id, manifest.permissions, services_);
   skill->instance = load_code(*skill);
   for (const auto& spec : specs) interpreter_.add(spec);
@@ -145,6 +228,13 @@ LoadedSkill& Registry::install(
   log(LogLevel::kInfo, "skills",
       "loaded " + manifest.id + " " + manifest.version.text + " (" + manifest.kind + ")");
   return *skills_.back();
+}
+
+LoadedSkill* Registry::find_origin(const std::filesystem::path& origin) const {
+  for (const auto& skill : skills_) {
+    if (skill->origin == origin) return skill.get();
+  }
+  return nullptr;
 }
 
 LoadedSkill* Registry::find(const std::string& skill_id) const {

@@ -38,7 +38,8 @@ TEST_CASE("end of speech after the trailing silence") {
   append_tone(audio, 300);
   append_silence(audio, 1000);
 
-  Endpointer endpointer;  // 400 ms trailing silence
+  Endpointer endpointer;  // the default trailing silence (250 ms)
+  const int trailing_ms = marvin::perception::EndpointerOptions{}.trailing_silence_ms;
   EndpointState state = EndpointState::kWaitingForSpeech;
   std::vector<EndpointState> seen;
   for (std::size_t pos = 0; pos < audio.size(); pos += 333) {
@@ -50,8 +51,8 @@ TEST_CASE("end of speech after the trailing silence") {
                                            EndpointState::kInSpeech, EndpointState::kEnded});
   CHECK(endpointer.speech_begin() == 300 * 16);
   CHECK(endpointer.speech_end() == (300 + 700 + 150 + 300) * 16);
-  // Decided exactly 400 ms after the last speech frame, and consumed nothing after that.
-  CHECK(endpointer.samples_seen() == endpointer.speech_end() + 400 * 16);
+  // Decided exactly that long after the last speech frame, and consumed nothing after that.
+  CHECK(endpointer.samples_seen() == endpointer.speech_end() + trailing_ms * 16);
   const std::int64_t decided = endpointer.samples_seen();
   endpointer.push(audio);
   CHECK(endpointer.samples_seen() == decided);

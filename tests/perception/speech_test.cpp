@@ -188,7 +188,8 @@ TEST_CASE("voice loop: gibberish after \"marvin\" gets the no-match answer") {
 }
 
 TEST_CASE("voice loop: a question is answered without the wake word, then it waits again") {
-  std::vector<std::int16_t> audio = utterance("marvin, call");
+  // The answer comes after the question has been spoken (about 1.2 s from the endpoint).
+  std::vector<std::int16_t> audio = utterance("marvin, call", 500, 2500);
   for (const char* next : {"anna", "what time is it"}) {
     const std::vector<std::int16_t> more = utterance(next);
     audio.insert(audio.end(), more.begin(), more.end());
@@ -221,4 +222,99 @@ TEST_CASE("voice loop: silence after the wake word times out quietly") {
   CHECK(run.heard.empty());
   CHECK(run.reply_audio.empty());
   CHECK(run.states.back() == VoiceState::kAwaiting);
+}
+
+namespace {
+
+// Index of the first sample louder than the hiss, from `from` on (or size()).
+std::size_t first_loud(const std::vector<std::int16_t>& pcm, std::size_t from = 0) {
+  for (std::size_t i = from; i < pcm.size(); ++i) {
+    if (std::abs(pcm[i]) > 300) return i;
+  }
+  return pcm.size();
+}
+
+}  // namespace
+
+TEST_CASE("voice loop timeline: the reply starts at the endpoint, aligned with the input") {
+  const std::vector<std::int16_t> audio = utterance("marvin, what time is it", 500, 3000);
+  std::vector<std::int16_t> out;
+  std::vector<VoiceTurn> turns;
+  VoiceLoopOptions options;
+  options.aligned_output = true;
+  VoiceLoop loop(
+      wake_word(), recognizer(), synthesizer(),
+      [](const Recognition&) { return Reply{"It is ten past eight.", false, {}}; },
+      [&](std::span<const std::int16_t> chunk) { out.insert(out.end(), chunk.begin(), chunk.end()); },
+      options);
+  loop.on_turn([&](const VoiceTurn& t) { turns.push_back(t); });
+  for (std::size_t pos = 0; pos < audio.size(); pos += 320) {
+    loop.feed(std::span<const std::int16_t>(audio).subspan(pos, std::min<std::size_t>(320, audio.size() - pos)));
+  }
+  loop.finish();
+  REQUIRE(turns.size() == 1);
+  // The 3 s after the command hold the whole reply: nothing is left for finish().
+  CHECK(out.size() == audio.size());
+  const std::size_t reply_at = first_loud(out);
+  CHECK(static_cast<std::int64_t>(reply_at) >= turns[0].endpoint_sample);
+  CHECK(static_cast<std::int64_t>(reply_at) < turns[0].endpoint_sample + 1600);  // espeak's lead-in
+  CHECK(turns[0].reply_samples > 16000 / 2);
+  // The endpoint comes after the trailing silence, which follows the end of speech.
+  CHECK(turns[0].endpoint_sample - turns[0].speech_end_sample >=
+        options.endpointer.trailing_silence_ms * 16 - 160);
+}
+
+TEST_CASE("voice loop barge-in: the wake word cuts the reply; say() and expect_answer() queue") {
+  // A long reply; "marvin, stop" one second into it.
+  std::vector<std::int16_t> audio = utterance("marvin, what time is it", 500, 1000);
+  const std::size_t stop_at = audio.size();
+  const std::vector<std::int16_t> stop = utterance("marvin, stop", 0, 3000);
+  audio.insert(audio.end(), stop.begin(), stop.end());
+  const std::string long_reply =
+      "It is ten past eight in the evening, and the weather tomorrow will be sunny with a light "
+      "breeze from the west.";
+  std::vector<std::int16_t> out;
+  std::vector<std::int64_t> cuts;
+  std::vector<std::string> heard;
+  std::vector<VoiceState> states;
+  VoiceLoopOptions options;
+  options.aligned_output = true;
+  VoiceLoop loop(
+      wake_word(), recognizer(), synthesizer(),
+      [&](const Recognition& r) {
+        heard.push_back(r.matched ? r.text : "");
+        return Reply{heard.size() == 1 ? long_reply : "", false, {}};
+      },
+      [&](std::span<const std::int16_t> chunk) { out.insert(out.end(), chunk.begin(), chunk.end()); },
+      options);
+  loop.on_barge_in([&](std::int64_t at) { cuts.push_back(at); });
+  loop.on_state([&](VoiceState s) { states.push_back(s); });
+  for (std::size_t pos = 0; pos < audio.size(); pos += 320) {
+    loop.feed(std::span<const std::int16_t>(audio).subspan(pos, std::min<std::size_t>(320, audio.size() - pos)));
+  }
+  REQUIRE(heard.size() == 2);
+  CHECK(heard[1] == "stop");
+  REQUIRE(cuts.size() == 1);
+  CHECK(static_cast<std::size_t>(cuts[0]) > stop_at);
+  CHECK(static_cast<std::size_t>(cuts[0]) < stop_at + 16000);
+  CHECK(rms(std::vector<std::int16_t>(out.begin() + static_cast<std::ptrdiff_t>(stop_at) - 8000,
+                                      out.begin() + static_cast<std::ptrdiff_t>(stop_at))) > 1000.0);
+  // Nothing after the cut: the rest of the long reply is dropped.
+  CHECK(first_loud(out, static_cast<std::size_t>(cuts[0])) == out.size());
+  CHECK(states == std::vector<VoiceState>{VoiceState::kListening, VoiceState::kExecuting,
+                                          VoiceState::kListening, VoiceState::kExecuting,
+                                          VoiceState::kAwaiting});
+
+  // Speech queued from outside plays at once when idle; a question queued with it is
+  // listened for after it, without the wake word.
+  states.clear();
+  loop.say("Reminder: take your pills.");
+  CHECK(loop.state() == VoiceState::kExecuting);
+  loop.expect_answer("");
+  const std::vector<std::int16_t> quiet(16000 * 3, 0);
+  const std::size_t before = out.size();
+  loop.feed(quiet);
+  CHECK(first_loud(out, before) < before + 1600);
+  CHECK(states == std::vector<VoiceState>{VoiceState::kExecuting, VoiceState::kListening});
+  loop.finish();
 }

@@ -148,7 +148,9 @@ TEST_CASE("validate hook and native architecture") {
     f.options.validate = [](const fs::path& staged) {
       if (fs::exists(staged / "main.lua")) throw std::runtime_error("skill.json: intents: missing");
     };
-    CHECK_THROWS_WITH_AS(f.install(f.package("demo", "1.1.0")), "skill.json: intents: missing", std::runtime_error);
+    CHECK_THROWS_WITH_AS(f.install(f.package("demo", "1.1.0")),
+                         doctest::Contains("demo-1.1.0.mskill: the host would not load it: skill.json: intents: missing"),
+                         std::runtime_error);
     CHECK(snapshot(f.skills) == before);
   }
   SUBCASE("native library for this CPU installs; for another is refused") {

@@ -92,6 +92,26 @@ TEST_CASE("package manifest: fields are checked and named") {
   CHECK_THROWS_WITH_AS(parse("{"), doctest::Contains("skill.json: not valid JSON"), std::runtime_error);
 }
 
+TEST_CASE("package manifest: the host's host_api object means the same range") {
+  auto parse = [](const std::string& j) { return parse_package_manifest(j, "skill.json"); };
+  auto v = [](const char* text) { return parse_version(text, "v", true); };
+  PackageManifest any_minor = parse(R"({"id":"x","version":"1.0.0","kind":"lua","host_api":{"min":"1.1"}})");
+  CHECK(any_minor.host_api.contains(v("1.1")));
+  CHECK(any_minor.host_api.contains(v("1.9")));
+  CHECK_FALSE(any_minor.host_api.contains(v("1.0")));
+  CHECK_FALSE(any_minor.host_api.contains(v("2.0")));
+  PackageManifest bounded =
+      parse(R"({"id":"x","version":"1.0.0","kind":"lua","host_api":{"min":"1.0","max":"1.3"}})");
+  CHECK(bounded.host_api.contains(v("1.3")));
+  CHECK_FALSE(bounded.host_api.contains(v("1.4")));
+  CHECK_THROWS_WITH_AS(parse(R"({"id":"x","version":"1.0.0","kind":"lua","host_api":{"max":"1.3"}})"),
+                       "skill.json: host_api.min: expected a string such as \"1.0\"", std::runtime_error);
+  CHECK_THROWS_WITH_AS(parse(R"({"id":"x","version":"1.0.0","kind":"lua","host_api":{"min":"1.0","max":2}})"),
+                       "skill.json: host_api.max: expected a string such as \"1.3\"", std::runtime_error);
+  CHECK_THROWS_WITH_AS(parse(R"({"id":"x","version":"1.0.0","kind":"lua","host_api":3})"),
+                       doctest::Contains("skill.json: host_api: expected an object"), std::runtime_error);
+}
+
 TEST_CASE("semantic versions order as semver says, ranges hold or not") {
   auto v = [](const char* s) { return parse_version(s, "v", true); };
   CHECK(compare_versions(v("1.0.0-alpha"), v("1.0.0")) < 0);

@@ -7,6 +7,11 @@
 namespace marvin::audio {
 namespace {
 
+// ALSA's library prints its own diagnostics to stderr ("ALSA lib confmisc.c:855: cannot find
+// card '0'", several lines) before returning the error we report with the device's name:
+// keep stderr to our one message.
+void quiet_alsa_library(const char*, int, const char*, int, const char*, ...) {}
+
 struct PcmHandle {
   snd_pcm_t* pcm = nullptr;
   int channels = 1;
@@ -15,6 +20,11 @@ struct PcmHandle {
 
   PcmHandle(const AlsaOptions& options, snd_pcm_stream_t stream) {
     const char* what = stream == SND_PCM_STREAM_CAPTURE ? "capture" : "playback";
+    static const bool quiet = [] {
+      snd_lib_error_set_handler(quiet_alsa_library);
+      return true;
+    }();
+    (void)quiet;
     int rc = snd_pcm_open(&pcm, options.device.c_str(), stream, 0);
     if (rc < 0) {
       throw std::runtime_error(std::string("cannot open ALSA ") + what + " device \"" +
