@@ -76,7 +76,7 @@ struct ListenArgs {
   std::string out;
   std::string grammar;
   float sensitivity = 0.5f;
-  std::string wake_word = "pocketsphinx";
+  std::string wake_word = "neural";
   std::string voice = "en-us";
   int rate = 160;
 };
@@ -188,8 +188,8 @@ void install_voice_commands(CLI::App& root) {
   listen_cmd->add_option("--sensitivity", listen_args->sensitivity, "Wake word sensitivity 0..1")
       ->capture_default_str();
   listen_cmd->add_option("--wake-word", listen_args->wake_word,
-                         "Wake-word detector: pocketsphinx, or neural (models/marvin-kws.bin "
-                         "or $MARVIN_KWS_MODEL)")
+                         "Wake-word detector: neural (models/marvin-kws.bin "
+                         "or $MARVIN_KWS_MODEL), or pocketsphinx keyphrase spotting")
       ->check(CLI::IsMember({"neural", "pocketsphinx"}))
       ->capture_default_str();
   listen_cmd->add_option("--voice", listen_args->voice, "espeak-ng voice")->capture_default_str();
@@ -211,8 +211,8 @@ void add_voice_run_options(CLI::App& run, VoiceRunOptions& o) {
                  "With --audio-in: write Marvin's speech to this WAV, aligned with the recording")
       ->needs(in);
   run.add_option("--wake-word", o.wake_word,
-                 "Wake-word detector: pocketsphinx, or neural (models/marvin-kws.bin or "
-                 "$MARVIN_KWS_MODEL)")
+                 "Wake-word detector: neural (models/marvin-kws.bin or "
+                 "$MARVIN_KWS_MODEL), or pocketsphinx keyphrase spotting")
       ->check(CLI::IsMember({"neural", "pocketsphinx"}))
       ->capture_default_str();
   run.add_option("--sensitivity", o.sensitivity, "Wake word sensitivity 0..1")

@@ -61,7 +61,7 @@
 namespace marvin::app {
 
 struct VoiceHostOptions {
-  std::string wake_word = "pocketsphinx";  // or "neural" (models/marvin-kws.bin, $MARVIN_KWS_MODEL)
+  std::string wake_word = "neural";  // models/marvin-kws.bin ($MARVIN_KWS_MODEL), or "pocketsphinx"
   float sensitivity = 0.5f;
   std::string voice = "en-us";
   int rate_wpm = 160;

@@ -58,7 +58,7 @@ TEST_CASE("the shipped model loads and is small") {
 
 TEST_CASE("a synthesised \"marvin\" is detected once") {
   for (const char* voice : {"en-us", "en-gb-x-gbclan+m7"}) {  // a training and a held-out voice
-    INFO("voice " << voice);
+    INFO("voice " << std::string(voice));
     const std::vector<std::int16_t> pcm = spoken("Marvin", voice);
     std::vector<perception::WakeWordDetection> det;
     CHECK(detections_in(pcm, &det) == 1);

@@ -61,13 +61,20 @@ struct Recording {
   }
 };
 
+// One folder for the whole run (each case rewrites its files), removed at exit.
+struct TempDir {
+  fs::path path = fs::temp_directory_path() /
+                  ("marvin_voice_host_test_" + std::to_string(::getpid()));
+  TempDir() { fs::create_directories(path); }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::remove_all(path, ignored);
+  }
+};
+
 fs::path temp_dir() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("marvin_voice_host_test_" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
+  static const TempDir dir;
+  return dir.path;
 }
 
 Result run_marvin(const std::string& arguments, const Recording* input = nullptr) {
@@ -196,12 +203,12 @@ TEST_CASE("a reminder by voice: the question is answered without the wake word")
   Recording rec;
   rec.silence(kAfterGreetingMs)
       .say("marvin, remind me to take my pills", 300, 3500)  // "When should I remind you?"
-      .say("at eight", 300, 4000);
+      .say("at eight p m", 300, 4000);
   const Result r = run_marvin(kHost, &rec);
   INFO(transcript(r));
   CHECK(r.exit_code == 0);
   CHECK(lines_starting(r, "You: ") ==
-        std::vector<std::string>{"You: remind me to take my pills", "You: at eight"});
+        std::vector<std::string>{"You: remind me to take my pills", "You: at eight pm"});
   CHECK(lines_starting(r, "Marvin: ") ==
         std::vector<std::string>{"Marvin: Hello, I'm Marvin.", "Marvin: When should I remind you?",
                                  "Marvin: OK, I'll remind you to take your pills today at 8 PM."});

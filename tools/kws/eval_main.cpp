@@ -171,7 +171,7 @@ int main(int argc, char** argv) {
   std::vector<float> thresholds = {0.3f, 0.4f, 0.5f, 0.6f, 0.7f, 0.8f, 0.9f, 0.95f};
   std::vector<float> ps_sensitivities = {0.3f, 0.5f, 0.7f};
   bool no_pocketsphinx = false;
-  int smoothing = 0;
+  std::vector<int> smoothings;
   float refractory_s = -1.0f;
   app.add_option("--model", model_path, "int8 model")->capture_default_str();
   app.add_option("--float-model", float_model_path, "float model, for float vs int8 accuracy");
@@ -182,7 +182,9 @@ int main(int argc, char** argv) {
   app.add_option("--thresholds", thresholds, "neural thresholds to report")->capture_default_str();
   app.add_option("--ps-sensitivities", ps_sensitivities, "pocketsphinx sensitivities")->capture_default_str();
   app.add_flag("--no-pocketsphinx", no_pocketsphinx);
-  app.add_option("--smoothing", smoothing, "override the model's smoothing windows");
+  app.add_option("--smoothing", smoothings,
+                 "smoothing windows to replay the trace with (default: the model's); several "
+                 "values give a table for each");
   app.add_option("--refractory", refractory_s, "override the model's refractory period (s)");
   app.add_option("--threads", threads)->capture_default_str();
   app.add_option("--save-track", save_track, "write the streaming track to this WAV");
@@ -192,7 +194,10 @@ int main(int argc, char** argv) {
     const auto start = Clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
     kws::KwsModel model = kws::load_model(model_path);
-    if (smoothing > 0) model.detection.smoothing_windows = smoothing;
+    for (int sm : smoothings) {
+      if (sm < 1) throw std::runtime_error("--smoothing " + std::to_string(sm) + ": expected 1 or more windows");
+    }
+    if (smoothings.empty()) smoothings.push_back(model.detection.smoothing_windows);
     if (refractory_s >= 0.0f) model.detection.refractory_seconds = refractory_s;
     const std::vector<std::string> voices = kws::heldout_voices();
     std::printf("model %s: keyword \"%s\", threshold %.2f, smoothing %d windows, refractory %.2f s\n",
@@ -275,24 +280,28 @@ int main(int argc, char** argv) {
 
     std::printf("\n%-28s %9s %8s %6s %8s\n", "detector", "setting", "miss", "FA", "FA/h");
     const int refractory = kws::refractory_windows(model);
-    struct Row { double miss, fah; float setting; };
+    struct Row { double miss, fah; float setting; int smoothing; };
     std::vector<Row> neural_rows, ps_rows;
-    for (float th : thresholds) {
-      kws::DetectionDecider decider(model.detection.smoothing_windows, th, refractory);
-      std::vector<std::int64_t> ends;
-      for (std::size_t w = 0; w < trace.posteriors.size(); ++w) {
-        if (decider.push(trace.posteriors[w])) ends.push_back((trace.end_frames[w] - 1) * 160 + 400);
+    for (int sm : smoothings) {
+      for (float th : thresholds) {
+        kws::DetectionDecider decider(sm, th, refractory);
+        std::vector<std::int64_t> ends;
+        for (std::size_t w = 0; w < trace.posteriors.size(); ++w) {
+          if (decider.push(trace.posteriors[w])) ends.push_back((trace.end_frames[w] - 1) * 160 + 400);
+        }
+        const Score s = score(ends, track);
+        char name[64];
+        std::snprintf(name, sizeof name, "neural int8 smoothing %d", sm);
+        std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", name, static_cast<double>(th),
+                    100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+        neural_rows.push_back({s.miss_rate(), s.false_accepts / hours, th, sm});
       }
-      const Score s = score(ends, track);
-      std::printf("%-28s %9.2f %7.2f%% %6d %8.2f\n", "neural cnn-trad-fpool3 int8", static_cast<double>(th),
-                  100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
-      neural_rows.push_back({s.miss_rate(), s.false_accepts / hours, th});
     }
     for (std::size_t i = 0; i < ps_runs.size(); ++i) {
       const Score s = score(ps_runs[i].get(), track);
       std::printf("%-28s %9.2f %7.2f%% %6d %8.2f\n", "pocketsphinx keyphrase", static_cast<double>(ps_sensitivities[i]),
                   100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
-      ps_rows.push_back({s.miss_rate(), s.false_accepts / hours, ps_sensitivities[i]});
+      ps_rows.push_back({s.miss_rate(), s.false_accepts / hours, ps_sensitivities[i], 0});
     }
     auto best_under = [](const std::vector<Row>& rows, double fah_limit) {
       const Row* best = nullptr;
@@ -303,7 +312,8 @@ int main(int argc, char** argv) {
     };
     std::printf("\noperating point (lowest miss rate with under 1 false accept per hour):\n");
     if (const Row* r = best_under(neural_rows, 1.0)) {
-      std::printf("  neural        threshold %.2f: miss %.2f%%, %.2f FA/h\n", static_cast<double>(r->setting), 100.0 * r->miss, r->fah);
+      std::printf("  neural        threshold %.3f, smoothing %d: miss %.2f%%, %.2f FA/h\n",
+                  static_cast<double>(r->setting), r->smoothing, 100.0 * r->miss, r->fah);
     } else {
       std::printf("  neural        none of the thresholds stays under 1 FA/h\n");
     }

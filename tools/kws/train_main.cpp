@@ -14,6 +14,10 @@
 #include <cstdio>
 #include <iostream>
 #include <optional>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "perception/kws/dataset.h"
 #include "perception/kws/model_file.h"
@@ -71,9 +75,29 @@ int main(int argc, char** argv) {
                "half the sentence pieces from random word sequences");
   app.add_option("--init", init, "start from this float model's weights and normalisation "
                                  "(fine-tuning) instead of random weights");
+  double mine_minutes = 0.0;
+  float mine_floor = 0.05f, mine_keep = 0.02f;
+  int mine_copies = 2;
+  app.add_option("--mine-minutes", mine_minutes,
+                 "hard-negative mining (needs --init): this much keyword-free speech in training "
+                 "voices, cut into streaming windows, scored by the --init model")->capture_default_str();
+  app.add_option("--mine-floor", mine_floor,
+                 "mined windows whose keyword posterior reaches this join the unknown class")->capture_default_str();
+  app.add_option("--mine-keep", mine_keep,
+                 "fraction of the other mined windows that join it too")->capture_default_str();
+  app.add_option("--mine-copies", mine_copies, "copies of each hard mined window")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   try {
+    // Checked before the minutes of synthesis, not after.
+    if (mine_minutes > 0.0 && init.empty()) {
+      throw std::runtime_error("--mine-minutes needs --init (the model that scores the windows)");
+    }
+    if (mine_minutes < 0.0 || !(mine_floor > 0.0f && mine_floor <= 1.0f) || mine_keep < 0.0f ||
+        mine_keep > 1.0f || mine_copies < 1) {
+      throw std::runtime_error("--mine-minutes must be >= 0, --mine-floor in (0, 1], --mine-keep in "
+                               "[0, 1], --mine-copies >= 1");
+    }
     const auto start = Clock::now();
     dopt.noise_folder = noise_dir;
     dopt.log = [&](const std::string& s) {
@@ -86,6 +110,7 @@ int main(int argc, char** argv) {
     kws::TrainingSet train = kws::clips_to_inputs(clips.train, topt.threads);
     kws::TrainingSet test = kws::clips_to_inputs(clips.test, topt.threads);
     kws::TrainingSet eval = kws::clips_to_inputs(clips.eval, topt.threads);
+    const std::vector<std::vector<float>> noise_pool = std::move(clips.noise_pool);
     clips = {};
     std::optional<kws::KwsModel> start_model;
     if (!init.empty()) start_model = kws::load_model(init);
@@ -94,6 +119,37 @@ int main(int argc, char** argv) {
     kws::normalise(test, norm);
     kws::normalise(eval, norm);
     std::printf("features: %.1f s\n", seconds_since(start));
+    if (mine_minutes > 0.0) {
+      // Hard negatives: the windows of keyword-free speech the starting model takes for the
+      // keyword (what fires in a stream), plus a few ordinary ones so the rest stays known.
+      std::mt19937_64 mine_rng(dopt.seed ^ 0x4D494E45ull);
+      const std::vector<std::string> voices = dopt.voices.empty() ? kws::training_voices() : dopt.voices;
+      const std::vector<float> speech = kws::negative_speech(mine_minutes * 60.0, voices, noise_pool, mine_rng);
+      kws::TrainingSet windows =
+          kws::stream_windows(speech, start_model->features.hop_frames, static_cast<int>(kws::KwsClass::unknown));
+      kws::normalise(windows, norm);
+      kws::FloatInference scorer(start_model->network);
+      std::uniform_real_distribution<float> u(0.0f, 1.0f);
+      std::size_t hard = 0, over_half = 0, kept = 0;
+      float probs[kws::kClasses];
+      for (std::size_t i = 0; i < windows.size(); ++i) {
+        scorer.run(windows.input(i), probs);
+        const bool is_hard = probs[0] >= mine_floor;
+        hard += is_hard;
+        over_half += probs[0] >= 0.5f;
+        const int copies = is_hard ? std::max(1, mine_copies) : (u(mine_rng) < mine_keep ? 1 : 0);
+        for (int k = 0; k < copies; ++k) {
+          train.inputs.insert(train.inputs.end(), windows.input(i).begin(), windows.input(i).end());
+          train.labels.push_back(windows.labels[i]);
+          ++kept;
+        }
+      }
+      std::printf("mined %.1f min of speech: %zu windows, %zu with keyword posterior >= %.2f (%zu >= 0.5), "
+                  "%zu examples added; %.1f s\n",
+                  mine_minutes, windows.size(), hard, static_cast<double>(mine_floor), over_half, kept,
+                  seconds_since(start));
+      std::fflush(stdout);
+    }
     std::fflush(stdout);
 
     kws::FloatNetwork net = start_model ? start_model->network : kws::make_initialised_network(dopt.seed);

@@ -244,6 +244,98 @@ std::string random_sentence(std::mt19937_64& rng) {
   return s;
 }
 
+const std::vector<std::string>& confusable_words() {
+  // No pair of entries may join into the keyword ("mar" + "vin" would), since varied
+  // sentences put them next to each other.
+  static const std::vector<std::string> w = {
+      "marvel", "marvellous", "marble", "marbles", "martin", "margin", "margarine", "martian",
+      "marching", "market", "marking", "mark in", "mark it", "parking", "carving", "carve in",
+      "starving", "starve in", "harvest", "harvey", "garden", "pardon", "barton", "carbon",
+      "moving", "move in", "far in", "are in", "car in", "bar in", "jar in", "star in",
+      "marvis", "mervyn", "melvin", "calvin", "kevin", "gavin", "darwin", "marlin", "marvel in",
+      "arming", "farming", "warming", "harming", "morning", "mourning", "marin", "martini",
+      "marmalade", "margaret", "heaven", "raven", "seven", "oven", "vitamin",
+      "win", "been", "bin", "fin", "in", "far", "car", "are"};
+  return w;
+}
+
+std::string varied_sentence(std::mt19937_64& rng) {
+  const auto& v = vocabulary();
+  const auto& c = confusable_words();
+  std::uniform_int_distribution<std::size_t> pick_v(0, v.size() - 1), pick_c(0, c.size() - 1);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const int n = std::uniform_int_distribution<int>(3, 14)(rng);
+  std::string s;
+  for (int i = 0; i < n; ++i) s += (i ? " " : "") + (u(rng) < 0.2f ? c[pick_c(rng)] : v[pick_v(rng)]);
+  return s;
+}
+
+std::vector<float> negative_speech(double seconds, const std::vector<std::string>& voices,
+                                   const std::vector<std::vector<float>>& noise_pool,
+                                   std::mt19937_64& rng) {
+  const std::size_t total = static_cast<std::size_t>(std::max(0.0, seconds) * 16000.0);
+  std::vector<float> out(total, 0.0f);
+  if (total == 0 || voices.empty()) return out;
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::uniform_int_distribution<std::size_t> pick_voice(0, voices.size() - 1);
+  if (!noise_pool.empty()) {
+    for (std::size_t pos = 0; pos < total;) {
+      const auto& n = noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+      const float level = db(-50.0f + 15.0f * u(rng)) / std::max(rms(n), 1e-6f);
+      for (std::size_t i = 0; i < n.size() && pos < total; ++i) out[pos++] += level * n[i];
+    }
+  }
+  const auto& sents = sentences();
+  const auto& conf = confusable_words();
+  for (std::size_t pos = static_cast<std::size_t>(1600 + 8000 * u(rng)); pos < total;) {
+    const float kind = u(rng);
+    std::string text;
+    if (kind < 0.25f) {
+      text = sents[std::uniform_int_distribution<std::size_t>(0, sents.size() - 1)(rng)];
+    } else if (kind < 0.85f) {
+      text = varied_sentence(rng);
+    } else {
+      const int n = std::uniform_int_distribution<int>(1, 4)(rng);
+      for (int i = 0; i < n; ++i) {
+        text += (i ? ", " : "") + conf[std::uniform_int_distribution<std::size_t>(0, conf.size() - 1)(rng)];
+      }
+    }
+    const int rate = 110 + static_cast<int>(120 * u(rng));
+    const int pitch = 20 + static_cast<int>(60 * u(rng));
+    const std::vector<float> s = synthesize(text, voices[pick_voice(rng)], rate, pitch);
+    float peak = 0.0f;
+    for (float v : s) peak = std::max(peak, std::fabs(v));
+    const float g = db(-18.0f + 14.0f * u(rng)) / std::max(peak, 1e-6f);
+    for (std::size_t i = 0; i < s.size() && pos + i < total; ++i) out[pos + i] += g * s[i];
+    pos += s.size() + static_cast<std::size_t>(1600 + 22400 * u(rng));
+  }
+  clip_to_unit(out);
+  return out;
+}
+
+TrainingSet stream_windows(const std::vector<float>& audio, int hop_frames, int label) {
+  TrainingSet set;
+  std::vector<std::int16_t> pcm(audio.size());
+  audio::float_to_pcm16(audio, pcm);
+  LogMelExtractor extractor;
+  std::vector<float> frames;
+  extractor.push(std::span<const std::int16_t>(pcm), [&](std::span<const float> bins) {
+    frames.insert(frames.end(), bins.begin(), bins.end());
+  });
+  const std::size_t n_frames = frames.size() / kBins;
+  const std::size_t hop = static_cast<std::size_t>(std::max(1, hop_frames));
+  const Normalisation identity{};
+  for (std::size_t end = kWindowFrames; end <= n_frames; end += hop) {
+    const std::size_t at = set.inputs.size();
+    set.inputs.resize(at + kInputSize);
+    window_to_input(std::span<const float>(frames).subspan((end - kWindowFrames) * kBins,
+                                                           static_cast<std::size_t>(kWindowFrames) * kBins),
+                    identity, std::span<float>(set.inputs).subspan(at, kInputSize));
+    set.labels.push_back(label);
+  }
+  return set;
+}
+
 AudioClip place_and_augment(const std::vector<float>& word, int label,
                             const std::vector<std::vector<float>>& noise_pool, bool augment,
                             std::mt19937_64& rng, const std::vector<std::vector<float>>* context,

@@ -53,6 +53,24 @@ const std::vector<std::string>& sentences();
 // Everyday words random sentences are made of (no keyword).
 const std::vector<std::string>& vocabulary();
 std::string random_sentence(std::mt19937_64& rng);
+// Words that sound like the keyword or make it across a word boundary ("marvel", "carving",
+// "far in"); never the keyword itself.
+const std::vector<std::string>& confusable_words();
+// 3..14 words: mostly vocabulary(), about one in five from confusable_words(), so a 1 s
+// window of it is often a keyword-like piece in the middle of other speech.
+std::string varied_sentence(std::mt19937_64& rng);
+
+// `seconds` of speech without the keyword, as a microphone hears a conversation: utterances
+// (sentences(), varied_sentence(), runs of confusable words) in random `voices`, rates and
+// pitches, at -18..-4 dB peak, 0.1..1.5 s apart, over continuous background from
+// `noise_pool` at -50..-35 dBFS. Used for hard-negative mining (training voices only).
+std::vector<float> negative_speech(double seconds, const std::vector<std::string>& voices,
+                                   const std::vector<std::vector<float>>& noise_pool,
+                                   std::mt19937_64& rng);
+
+// The unnormalised network inputs of the windows a streaming spotter sees on `audio` (one
+// every `hop_frames` log-mel frames, as KeywordSpotter), all labelled `label`.
+TrainingSet stream_windows(const std::vector<float>& audio, int hop_frames, int label);
 
 // Speech from espeak-ng, 16 kHz float, leading and trailing silence trimmed.
 std::vector<float> synthesize(const std::string& text, const std::string& voice, int rate_wpm,
