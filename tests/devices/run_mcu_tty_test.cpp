@@ -6,6 +6,8 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <poll.h>
+#include <sys/inotify.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -16,7 +18,6 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "protocol/marvin_protocol.h"
@@ -38,15 +39,28 @@ nlohmann::json read_state(const fs::path& p) {
   }
 }
 
-// Polls `pred` (a file another process writes) until it holds; false after `timeout`.
+// Waits until `pred` (about a file another process rewrites) holds: re-checks on every file
+// event in `dir` (inotify), never by sleeping; false after `timeout`.
 template <class Pred>
-bool eventually(Pred pred, std::chrono::seconds timeout = 60s) {
-  auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (!pred()) {
-    if (std::chrono::steady_clock::now() >= deadline) return false;
-    std::this_thread::sleep_for(20ms);  // polling interval, not synchronisation
+bool eventually(const fs::path& dir, Pred pred, std::chrono::seconds timeout = 60s) {
+  const int fd = ::inotify_init1(IN_CLOEXEC);
+  REQUIRE(fd >= 0);
+  REQUIRE(::inotify_add_watch(fd, dir.c_str(), IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE) >= 0);
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  bool held = pred();
+  while (!held) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) break;
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, static_cast<int>(left.count())) > 0) {
+      char events[4096];
+      (void)::read(fd, events, sizeof events);  // drain; the content is not needed
+    }
+    held = pred();
   }
-  return true;
+  ::close(fd);
+  return held;
 }
 
 pid_t spawn_simulator(const fs::path& link, const fs::path& state) {
@@ -91,7 +105,7 @@ TEST_CASE("run --sim --mcu-tty: a skill's move drives the simulated base over th
   )");
 
   pid_t sim = spawn_simulator(link, state);
-  REQUIRE(eventually([&] { return read_state(state).contains("x"); }));
+  REQUIRE(eventually(dir, [&] { return read_state(state).contains("x"); }));
   const double start_x = read_state(state).value("x", 0.0);
 
   std::ofstream(dir / "input.txt") << "drive forward\n";
@@ -116,8 +130,8 @@ TEST_CASE("run --sim --mcu-tty: a skill's move drives the simulated base over th
 
   // The move went over the wire: the simulated body travelled, and the last light the host
   // set (awaiting, red) is what the MCU shows.
-  CHECK(eventually([&] { return read_state(state).value("x", 0.0) > start_x + 0.05; }));
-  CHECK(eventually([&] { return read_state(state).value("leds", -1) == MV_LED_RED; }));
+  CHECK(eventually(dir, [&] { return read_state(state).value("x", 0.0) > start_x + 0.05; }));
+  CHECK(eventually(dir, [&] { return read_state(state).value("leds", -1) == MV_LED_RED; }));
   INFO("simulator state: " << read_state(state).dump());
   CHECK(read_state(state).value("collisions", -1) == 0);
 
