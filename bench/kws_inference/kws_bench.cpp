@@ -3,7 +3,8 @@
 //   1. One window through the float network and through the int8 network (the same model,
 //      the float path with the int8 weights dequantised, so both do the same work), timed
 //      alternately in blocks; median per window in thread CPU time (what one core spends,
-//      whatever else the machine runs) and wall clock; ratio int8 / float.
+//      whatever else the machine runs) and wall clock; ratio int8 / float; which int8 kernel
+//      ran (portable, AVX2 or AVX-512 VNNI: the fastest the CPU has).
 //   2. Model file size.
 //   3. Listening CPU share: 60 s of noise and speech through NeuralWakeWord::process (log-mel
 //      features + a window every 250 ms), CPU time / audio time.
@@ -51,8 +52,7 @@ int main(int argc, char** argv) {
   const kws::QuantizedNetwork q = model.int8_network();
   kws::FloatInference float_net(model.network);
   kws::Int8Inference int8_net(q);
-  std::printf("kws_bench: %s (keyword \"%s\"), int8 kernel: %s\n", model_path.c_str(),
-              model.keyword.c_str(), int8_net.vectorised() ? "AVX2" : "portable");
+  std::printf("kws_bench: %s (keyword \"%s\")\n", model_path.c_str(), model.keyword.c_str());
 
   // 1. Per-window inference.
   std::mt19937_64 rng(1);
@@ -81,6 +81,7 @@ int main(int argc, char** argv) {
   std::printf("  float (Eigen)                         %8.1f us  %8.1f us\n", median(f_cpu), median(f_wall));
   std::printf("  int8 (int32 accumulation)             %8.1f us  %8.1f us   goal < 300 us\n", median(q_cpu), median(q_wall));
   std::printf("  int8 / float                          %8.2f x\n", median(q_cpu) / median(f_cpu));
+  std::printf("  int8 kernel                           %s\n", kws::kernel_name(int8_net.kernel()));
   std::printf("  int8 throughput                       %8.1f GMAC/s (9.7 M MAC per window)\n", macs / median(q_cpu) / 1e3);
 
   // 2. Size.

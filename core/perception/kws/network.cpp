@@ -228,6 +228,31 @@ void gemm_s16_portable(const std::int16_t* a, int rows, const std::int16_t* w, i
   }
 }
 
+const char* kernel_name(Int8Kernel kernel) {
+  switch (kernel) {
+    case Int8Kernel::portable: return "portable";
+    case Int8Kernel::avx2: return "AVX2";
+    case Int8Kernel::avx512_vnni: return "AVX-512 VNNI";
+  }
+  return "?";
+}
+
+bool kernel_available(Int8Kernel kernel) {
+  switch (kernel) {
+    case Int8Kernel::portable: return true;
+    case Int8Kernel::avx2: return gemm_s16_avx2_available();
+    case Int8Kernel::avx512_vnni: return gemm_s16_avx512_available();
+  }
+  return false;
+}
+
+Int8Kernel best_int8_kernel() {
+  static const Int8Kernel best = kernel_available(Int8Kernel::avx512_vnni) ? Int8Kernel::avx512_vnni
+                                 : kernel_available(Int8Kernel::avx2)      ? Int8Kernel::avx2
+                                                                           : Int8Kernel::portable;
+  return best;
+}
+
 Int8Inference::Int8Inference(const QuantizedNetwork& net) : scales_(net.scales) {
   const float act_in[5] = {net.scales.input, net.scales.conv1, net.scales.conv2,
                            net.scales.linear, net.scales.dense};
@@ -271,13 +296,40 @@ Int8Inference::Int8Inference(const QuantizedNetwork& net) : scales_(net.scales) 
   l_.resize(kLinear);
   h_.resize(kDense);
   acc_.resize(static_cast<std::size_t>(kConv1OutTime * kConv1OutFreq * kConv1Maps));
+  for (int t = 0; t < kConv1OutTime; ++t) {
+    for (int f = 0; f < kConv1OutFreq; ++f) conv1_rows_.push_back(t * kBins + f);
+  }
+  for (int t = 0; t < kConv2OutTime; ++t) {
+    for (int f = 0; f < kConv2OutFreq; ++f) conv2_rows_.push_back((t * kPooledFreq + f) * kConv1Maps);
+  }
+  set_kernel(best_int8_kernel());
 }
 
-bool Int8Inference::vectorised() const { return !portable_ && gemm_s16_avx2_available(); }
+void Int8Inference::set_kernel(Int8Kernel kernel) {
+  if (!kernel_available(kernel)) {
+    throw std::invalid_argument(std::string("kws Int8Inference: the ") + kernel_name(kernel) +
+                                " kernel is not available on this CPU or build");
+  }
+  if (kernel == Int8Kernel::avx512_vnni && conv2_bytes_.data.empty()) {
+    for (Layer* l : {&linear_, &dense_, &output_}) {
+      l->packed = detail::pack_weights_s16(l->weights.data(), l->out, l->in);
+    }
+    conv1_bytes_ = detail::pack_weights_s8(conv1_.weights.data(), conv1_.out, conv1_.in);
+    conv1_shifted_bias_ = conv1_.bias;
+    for (std::size_t o = 0; o < conv1_shifted_bias_.size(); ++o) {
+      std::int32_t sum = 0;
+      for (int k = 0; k < conv1_.in; ++k) sum += conv1_.weights[o * static_cast<std::size_t>(conv1_.in) + static_cast<std::size_t>(k)];
+      conv1_shifted_bias_[o] -= 128 * sum;
+    }
+    conv2_bytes_ = detail::pack_weights_s8(conv2_.weights.data(), conv2_.out, conv2_.in);
+    a1_bytes_.resize(a1_.size());
+  }
+  kernel_ = kernel;
+}
 
 void Int8Inference::gemm(const std::int16_t* a, int rows, const Layer& layer,
                          std::int32_t* c) const {
-  if (vectorised()) {
+  if (kernel_ == Int8Kernel::avx2) {
     gemm_s16_avx2(a, rows, layer.weights.data(), layer.out, layer.in, c);
   } else {
     gemm_s16_portable(a, rows, layer.weights.data(), layer.out, layer.in, c);
@@ -288,6 +340,10 @@ void Int8Inference::run(std::span<const float> input, std::span<float> probabili
   if (input.size() != static_cast<std::size_t>(kInputSize) ||
       probabilities.size() != static_cast<std::size_t>(kClasses)) {
     throw std::invalid_argument("kws Int8Inference::run: input must hold 1280 values, output 4");
+  }
+  if (kernel_ == Int8Kernel::avx512_vnni) {
+    run_avx512(input, probabilities);
+    return;
   }
   // Input -> int8, straight into conv1's columns (im2col on the quantised frame).
   std::int16_t qin[kInputSize];
@@ -335,6 +391,48 @@ void Int8Inference::run(std::span<const float> input, std::span<float> probabili
   fc(linear_, a2_.data(), l_.data(), scales_.linear, false);
   fc(dense_, l_.data(), h_.data(), scales_.dense, true);
   gemm(h_.data(), 1, output_, acc_.data());
+  for (std::size_t o = 0; o < static_cast<std::size_t>(kClasses); ++o) {
+    probabilities[o] = static_cast<float>(acc_[o] + output_.bias[o]) * output_.to_real[o];
+  }
+  softmax(probabilities);
+}
+
+// The same arithmetic as run() with the AVX-512 kernels reading the convolutions' inputs in
+// place (no im2col copies) and vectorised requantisation; both convolutions on bytes
+// (vpdpbusd), the dense layers on int16 (vpdpwssd).
+void Int8Inference::run_avx512(std::span<const float> input, std::span<float> probabilities) {
+  std::uint8_t qin[kInputSize];  // quantised input + 128
+  detail::quantize_input_u8_avx512(input.data(), kInputSize, 1.0f / scales_.input, qin);
+  constexpr int p1 = kConv1OutTime * kConv1OutFreq;
+  detail::gemm_avx512_packed(
+      detail::RowsView<std::uint8_t>{qin, conv1_rows_.data(), p1, kConv1Freq, kBins},
+      conv1_bytes_, acc_.data());
+  // Pooling: the 3 frequencies pooled together are consecutive rows (33 = 11 x 3 per frame).
+  // The +128 shift adds the same 128 * sum(w) to all three, so taking it out after the max
+  // (in the bias) is exact. After the ReLU every value is 0..127: conv2 takes them as bytes.
+  detail::requantize_relu_avx512(acc_.data(), kConv1OutTime * kPooledFreq, kPoolFreq, kConv1Maps,
+                                 conv1_shifted_bias_.data(), conv1_.to_real.data(),
+                                 1.0f / scales_.conv1, a1_bytes_.data());
+  constexpr int p2 = kConv2OutTime * kConv2OutFreq;
+  detail::gemm_avx512_packed(
+      detail::RowsView<std::uint8_t>{a1_bytes_.data(), conv2_rows_.data(), p2,
+                                     kConv2Freq * kConv1Maps, kPooledFreq * kConv1Maps},
+      conv2_bytes_, acc_.data());
+  detail::requantize_avx512(acc_.data(), p2, 1, kConv2Maps, conv2_.bias.data(),
+                            conv2_.to_real.data(), 1.0f / scales_.conv2, true, a2_.data());
+  const std::int32_t first_row = 0;
+  auto fc = [&](const Layer& layer, const std::int16_t* in, std::int16_t* out, float out_scale,
+                bool relu) {
+    detail::gemm_avx512_packed(detail::RowsView<std::int16_t>{in, &first_row, 1, layer.in, layer.in},
+                               layer.packed, acc_.data());
+    detail::requantize_avx512(acc_.data(), 1, 1, layer.out, layer.bias.data(),
+                              layer.to_real.data(), 1.0f / out_scale, relu, out);
+  };
+  fc(linear_, a2_.data(), l_.data(), scales_.linear, false);
+  fc(dense_, l_.data(), h_.data(), scales_.dense, true);
+  detail::gemm_avx512_packed(
+      detail::RowsView<std::int16_t>{h_.data(), &first_row, 1, kDense, kDense}, output_.packed,
+      acc_.data());
   for (std::size_t o = 0; o < static_cast<std::size_t>(kClasses); ++o) {
     probabilities[o] = static_cast<float>(acc_[o] + output_.bias[o]) * output_.to_real[o];
   }

@@ -32,6 +32,8 @@
 #include <string>
 #include <vector>
 
+#include "perception/kws/gemm_avx512.h"
+
 namespace marvin::perception::kws {
 
 // Shapes (fixed by the architecture).
@@ -138,18 +140,34 @@ class FloatInference {
   ActivationScales ranges_;
 };
 
+// The int8 x int8 -> int32 kernels Int8Inference can use, fastest last.
+enum class Int8Kernel { portable, avx2, avx512_vnni };
+const char* kernel_name(Int8Kernel kernel);  // "portable", "AVX2", "AVX-512 VNNI"
+// True when this build and this CPU can run `kernel`.
+bool kernel_available(Int8Kernel kernel);
+// The fastest available kernel (checked once).
+Int8Kernel best_int8_kernel();
+
 // Runs the int8 network. The input is quantised with scales.input; everything after it is
-// int8 x int8 -> int32. Uses AVX2 where the CPU has it (checked once), portable loops
-// elsewhere; both give identical results. Not thread-safe; one per thread.
+// int8 x int8 -> int32. Uses the fastest kernel the CPU has (AVX-512 VNNI, else AVX2, else
+// portable loops); all give bit-identical results. Holds its scratch buffers and the weights
+// packed for its kernel: nothing is allocated per call. Not thread-safe; one per thread.
 class Int8Inference {
  public:
   explicit Int8Inference(const QuantizedNetwork& net);
   void run(std::span<const float> input, std::span<float> probabilities);
 
-  // True when the AVX2 kernel is in use.
-  bool vectorised() const;
-  // Forces the portable kernel (tests compare both).
-  void set_portable(bool portable) { portable_ = portable; }
+  // The kernel in use.
+  Int8Kernel kernel() const { return kernel_; }
+  // True when a vectorised (AVX2 or AVX-512) kernel is in use.
+  bool vectorised() const { return kernel_ != Int8Kernel::portable; }
+  // Chooses the kernel (tests compare them). Throws std::invalid_argument naming the kernel
+  // when this CPU or build lacks it; the kernel in use is then unchanged.
+  void set_kernel(Int8Kernel kernel);
+  // Forces the portable kernel, or goes back to the fastest one.
+  void set_portable(bool portable) {
+    set_kernel(portable ? Int8Kernel::portable : best_int8_kernel());
+  }
 
  private:
   struct Layer {
@@ -157,24 +175,41 @@ class Int8Inference {
     std::vector<std::int16_t> weights;  // int8 values widened for the multiply-add kernel
     std::vector<std::int32_t> bias;     // in accumulator units
     std::vector<float> to_real;         // accumulator -> real value, per output channel
+    detail::PackedS16 packed;           // AVX-512 kernel, dense layers (convs: below)
   };
   void gemm(const std::int16_t* a, int rows, const Layer& layer, std::int32_t* c) const;
+  void run_avx512(std::span<const float> input, std::span<float> probabilities);
 
   Layer conv1_, conv2_, linear_, dense_, output_;
   ActivationScales scales_;
-  bool portable_ = false;
+  Int8Kernel kernel_ = Int8Kernel::portable;
   std::vector<std::int16_t> cols1_, a1_, cols2_, a2_, l_, h_;
   std::vector<std::int32_t> acc_;
+  // Where each output position's receptive field starts in the input / in a1 (AVX-512 path).
+  std::vector<std::int32_t> conv1_rows_, conv2_rows_;
+  // AVX-512 path: both convolutions read their input as bytes (conv1's shifted by +128, which
+  // conv1_shifted_bias_ takes back out), with their weights packed for that.
+  detail::PackedS8 conv1_bytes_, conv2_bytes_;
+  std::vector<std::int32_t> conv1_shifted_bias_;
+  std::vector<std::uint8_t> a1_bytes_;
 };
 
-// The int8 x int8 -> int32 matrix kernel both paths of Int8Inference use:
-// c[m*n + j] = sum_k a[m*k + i] * w[j*k + i], for m < rows, j < cols. `cols` must be a
-// multiple of 4 and `depth` of 16 (true for every layer of the network).
+// The int8 x int8 -> int32 matrix kernels of Int8Inference, one per Int8Kernel:
+// c[m*cols + j] = sum_k a[m*depth + k] * w[j*depth + k], for m < rows, j < cols. All take any sizes (the AVX2 kernel does what is left over from blocks of 4 columns and
+// 16 inputs in scalar code).
 void gemm_s16_portable(const std::int16_t* a, int rows, const std::int16_t* w, int cols,
                        int depth, std::int32_t* c);
 bool gemm_s16_avx2_available();
 void gemm_s16_avx2(const std::int16_t* a, int rows, const std::int16_t* w, int cols, int depth,
                    std::int32_t* c);
+bool gemm_s16_avx512_available();
+// Packs `w` on every call (Int8Inference packs once); throws std::logic_error if not built.
+void gemm_s16_avx512(const std::int16_t* a, int rows, const std::int16_t* w, int cols, int depth,
+                     std::int32_t* c);
+// The same for activations that are never negative (after a ReLU), held as bytes 0..255:
+// twice the multiply-adds per instruction. Int8Inference uses it for conv2.
+void gemm_u8s8_avx512(const std::uint8_t* a, int rows, const std::int16_t* w, int cols,
+                      int depth, std::int32_t* c);
 
 // Softmax in place.
 void softmax(std::span<float> values);
