@@ -10,32 +10,30 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/local_time.h"
+
 namespace marvin::data {
 namespace {
 
 using std::chrono::milliseconds;
 using std::chrono::minutes;
 using std::chrono::seconds;
-using LocalMs = date::local_time<milliseconds>;
-using SysMs = date::sys_time<milliseconds>;
 
 const date::time_zone* zone_named(std::string_view name) {
-  try {
-    return date::locate_zone(name);
-  } catch (const std::exception&) {
+  const date::time_zone* zone = find_time_zone(name);
+  if (zone == nullptr) {
     throw std::runtime_error("time_zone: unknown IANA time zone '" + std::string(name) + "'");
   }
+  return zone;
 }
 
-// Local time to UTC: the spring gap maps to the end of the gap, the autumn fold to its
-// first (earlier) instant.
+// Local time to UTC (the gap and fold rule is local_to_utc's), in ms as the store keeps it.
 std::int64_t resolve(const date::time_zone* zone, LocalMs local) {
-  SysMs sys = zone->to_sys(local, date::choose::earliest);
-  return sys.time_since_epoch().count();
+  return local_to_utc(*zone, local).time_since_epoch().count();
 }
 
 LocalMs to_local(const date::time_zone* zone, std::int64_t utc_ms) {
-  return zone->to_local(SysMs{milliseconds{utc_ms}});
+  return utc_to_local(*zone, UtcMs{milliseconds{utc_ms}});
 }
 
 // Monday = 0 ... Sunday = 6.

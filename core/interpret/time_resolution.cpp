@@ -7,25 +7,26 @@
 #include <date/date.h>
 #include <date/tz.h>
 
+#include "common/local_time.h"
+
 namespace marvin::interpret {
 namespace {
 
 using std::chrono::hours;
 using std::chrono::milliseconds;
 using std::chrono::minutes;
-using SysMs = date::sys_time<milliseconds>;
-using LocalMs = date::local_time<milliseconds>;
+using SysMs = UtcMs;
 
 constexpr int kDefaultHour = 9;
 
 const date::time_zone* find_zone(const std::string& name) {
-  try {
-    return date::locate_zone(name);
-  } catch (const std::exception&) {
+  const date::time_zone* zone = find_time_zone(name);
+  if (zone == nullptr) {
     throw std::runtime_error("unknown time zone \"" + name +
                              "\" in Context::time_zone (expected an IANA name such as "
                              "\"Europe/Berlin\")");
   }
+  return zone;
 }
 
 std::string format_local(LocalMs local) {
@@ -50,13 +51,13 @@ class Resolver {
  public:
   Resolver(std::int64_t now_utc_ms, const std::string& zone_name)
       : zone_(find_zone(zone_name)), now_(milliseconds(now_utc_ms)) {
-    today_ = date::floor<date::days>(zone_->to_local(now_));
+    today_ = date::floor<date::days>(utc_to_local(*zone_, now_));
   }
 
   // The instant of `hour:minute` on `day`, local; gaps resolve to the transition.
   SysMs instant(date::local_days day, int hour, int minute) const {
     LocalMs local{day + hours(hour) + minutes(minute)};
-    return zone_->to_sys(local, date::choose::earliest);
+    return local_to_utc(*zone_, local);
   }
 
   // The first instant after now at hour:minute on one of the days today+first..today+last
@@ -73,7 +74,7 @@ class Resolver {
     return std::nullopt;
   }
 
-  LocalMs local(SysMs at) const { return zone_->to_local(at); }
+  LocalMs local(SysMs at) const { return utc_to_local(*zone_, at); }
   SysMs now() const { return now_; }
   const date::time_zone* zone() const { return zone_; }
 

@@ -10,30 +10,23 @@
 // Synchronisation is on output lines only (a generous timeout, never a sleep). Every process
 // gets its own $HOME and $MARVIN_SKILLS_DIR under a temporary folder.
 #include <doctest/doctest.h>
-#include <fcntl.h>
-#include <poll.h>
-#include <pty.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "support/child_process.h"
 #include "test_skills.h"
 
 namespace {
 
 using marvin::app::test::TempDir;
+using marvin::test_support::ChildOptions;
+using marvin::test_support::ChildProcess;
+using marvin::test_support::exit_code;
 namespace fs = std::filesystem;
 namespace test = marvin::app::test;
-
-constexpr auto kTimeout = std::chrono::seconds(60);
 
 std::string quote(const std::string& s) {
   std::string out = "'";
@@ -50,17 +43,12 @@ struct Output {
 
 // Runs a shell command line with `input` on its stdin and collects its output.
 Output shell(const std::string& command, const std::string& input = "") {
-  TempDir io;
-  test::write_text(io / "in", input);
+  ChildProcess child = ChildProcess::shell(command);
+  child.write(input);
   Output out;
-  FILE* pipe =
-      popen((command + " < " + (io / "in").string() + " 2> " + (io / "err").string()).c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  char buffer[4096];
-  while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) out.text.append(buffer, n);
-  int status = pclose(pipe);
-  out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  out.errors = test::read_text(io / "err");
+  out.exit_code = exit_code(child.finish());
+  out.text = child.output();
+  out.errors = child.errors();
   return out;
 }
 
@@ -104,113 +92,6 @@ struct World {
   }
 };
 
-// A child process with piped stdin and stdout (stderr to a file), read line by line.
-class Child {
- public:
-  Child(const std::vector<std::string>& argv, const std::vector<std::string>& env,
-        const fs::path& stderr_file) {
-    int in[2], out[2];
-    REQUIRE(pipe2(in, O_CLOEXEC) == 0);
-    REQUIRE(pipe2(out, O_CLOEXEC) == 0);
-    std::vector<char*> args, envp;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    for (const auto& e : env) envp.push_back(const_cast<char*>(e.c_str()));
-    envp.push_back(nullptr);
-    pid_ = fork();
-    REQUIRE(pid_ >= 0);
-    if (pid_ == 0) {
-      dup2(in[0], 0);
-      dup2(out[1], 1);
-      int err = open(stderr_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      if (err >= 0) dup2(err, 2);
-      execve(args[0], args.data(), envp.data());
-      _exit(127);
-    }
-    close(in[0]);
-    close(out[1]);
-    in_ = in[1];
-    out_ = out[0];
-  }
-  ~Child() {
-    if (in_ >= 0) close(in_);
-    if (pid_ > 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-    if (out_ >= 0) close(out_);
-  }
-
-  void send(const std::string& line) {
-    std::string text = line + "\n";
-    REQUIRE(write(in_, text.data(), text.size()) == static_cast<ssize_t>(text.size()));
-  }
-
-  // Reads lines until one satisfies `want`; returns it. Fails (showing every line read so
-  // far) when the timeout passes or the output ends first.
-  template <class Want>
-  std::string wait_for(const std::string& what, Want want) {
-    auto deadline = std::chrono::steady_clock::now() + kTimeout;
-    for (;;) {
-      while (next_ < lines_.size()) {
-        const std::string& line = lines_[next_++];
-        if (want(line)) return line;
-      }
-      auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-          deadline - std::chrono::steady_clock::now());
-      if (left.count() <= 0 || !read_some(static_cast<int>(left.count()))) {
-        std::string all;
-        for (const auto& l : lines_) all += "  " + l + "\n";
-        FAIL("no line " << what << " within the timeout; output so far:\n" << all);
-        return {};
-      }
-    }
-  }
-  std::string wait_line(const std::string& exact) {
-    return wait_for("\"" + exact + "\"", [&](const std::string& l) { return l == exact; });
-  }
-  std::string wait_containing(const std::string& part) {
-    return wait_for("containing \"" + part + "\"",
-                    [&](const std::string& l) { return l.find(part) != std::string::npos; });
-  }
-
-  // Closes stdin (end of input) and waits for the exit code.
-  int finish() {
-    close(in_);
-    in_ = -1;
-    while (read_some(static_cast<int>(kTimeout.count() * 1000))) {
-    }
-    int status = 0;
-    waitpid(pid_, &status, 0);
-    pid_ = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-
- private:
-  // Waits up to `ms` for output; false at end of output or timeout.
-  bool read_some(int ms) {
-    pollfd p{out_, POLLIN, 0};
-    int r = poll(&p, 1, ms);
-    if (r <= 0) return false;
-    char buffer[4096];
-    ssize_t n = read(out_, buffer, sizeof buffer);
-    if (n <= 0) return false;
-    partial_.append(buffer, static_cast<std::size_t>(n));
-    for (std::size_t nl; (nl = partial_.find('\n')) != std::string::npos;) {
-      lines_.push_back(partial_.substr(0, nl));
-      partial_.erase(0, nl + 1);
-    }
-    return true;
-  }
-
-  pid_t pid_ = -1;
-  int in_ = -1;
-  int out_ = -1;
-  std::string partial_;
-  std::vector<std::string> lines_;
-  std::size_t next_ = 0;
-};
-
 bool is_no_match(const std::string& line) {
   return line.starts_with("Marvin: Sorry, I don't know how to help with that");
 }
@@ -230,23 +111,26 @@ TEST_CASE("a running host follows install, upgrade, failed upgrade, rollback and
   const std::string dir = " --skills-dir " + quote(w.skills);
   const std::string key = " --key " + quote(w.pub);
 
-  Child host({MARVIN_EXE, "run", "--sim", "--in-memory", "--no-builtin-skills", "--time-zone",
-              "UTC", "--skills-dir", w.skills.string()},
-             {"HOME=" + (w.tmp / "home").string(), "PATH=/usr/bin:/bin"},
-             w.tmp / "host-stderr.txt");
-  host.wait_line("Marvin: Hello, I'm Marvin.");
-  host.send("hello greet");
-  host.wait_line("You: hello greet");
-  host.wait_for("no-match answer", is_no_match);
+  ChildOptions host_options;
+  host_options.environment = {"HOME=" + (w.tmp / "home").string(), "PATH=/usr/bin:/bin"};
+  host_options.clean_environment = true;
+  host_options.err_file = w.tmp / "host-stderr.txt";
+  ChildProcess host({MARVIN_EXE, "run", "--sim", "--in-memory", "--no-builtin-skills",
+                     "--time-zone", "UTC", "--skills-dir", w.skills.string()},
+                    host_options);
+  host.wait_for_line("Marvin: Hello, I'm Marvin.");
+  host.send_line("hello greet");
+  host.wait_for_line("You: hello greet");
+  host.wait_for_line("no-match answer", is_no_match);
 
   // install, in another process.
   Output o = w.marvin("skill install " + quote(v1) + key + " --yes" + dir);
   INFO(o.all());
   REQUIRE(o.exit_code == 0);
   CHECK(o.text == "installed hello 1.0.0\n");
-  host.wait_line("[skill hello 1.0.0 loaded]");
-  host.send("hello greet");
-  host.wait_line("Marvin: Hello from one");
+  host.wait_for_line("[skill hello 1.0.0 loaded]");
+  host.send_line("hello greet");
+  host.wait_for_line("Marvin: Hello from one");
 
   o = w.marvin("skill list" + dir);
   CHECK(o.exit_code == 0);
@@ -259,62 +143,62 @@ TEST_CASE("a running host follows install, upgrade, failed upgrade, rollback and
   INFO(o.all());
   REQUIRE(o.exit_code == 0);
   CHECK(o.text == "upgraded hello 1.1.0 (was 1.0.0)\n");
-  host.wait_line("[skill hello 1.1.0 loaded (was 1.0.0)]");
-  host.send("hello greet");
-  host.wait_line("Marvin: Hello from two");
+  host.wait_for_line("[skill hello 1.1.0 loaded (was 1.0.0)]");
+  host.send_line("hello greet");
+  host.wait_for_line("Marvin: Hello from two");
 
   // rollback (and back again: a second rollback undoes the first).
   o = w.marvin("skill rollback hello" + dir);
   CHECK(o.text == "rolled back hello to 1.0.0\n");
-  host.wait_line("[skill hello 1.0.0 loaded (was 1.1.0)]");
-  host.send("hello greet");
-  host.wait_line("Marvin: Hello from one");
+  host.wait_for_line("[skill hello 1.0.0 loaded (was 1.1.0)]");
+  host.send_line("hello greet");
+  host.wait_for_line("Marvin: Hello from one");
   o = w.marvin("skill rollback hello" + dir);
   CHECK(o.text == "rolled back hello to 1.1.0\n");
-  host.wait_line("[skill hello 1.1.0 loaded (was 1.0.0)]");
+  host.wait_for_line("[skill hello 1.1.0 loaded (was 1.0.0)]");
 
   // An upgrade whose code fails to load: the host rolls it back by itself.
   o = w.marvin("skill install " + quote(broken) + key + " --yes" + dir);
   INFO(o.all());
   REQUIRE(o.exit_code == 0);
   CHECK(o.text == "upgraded hello 1.2.0 (was 1.1.0)\n");
-  std::string failed = host.wait_containing("[skill hello 1.2.0 failed to load (");
+  std::string failed = host.wait_for_line_containing("[skill hello 1.2.0 failed to load (");
   CHECK(failed.find("broken on purpose") != std::string::npos);
   CHECK(failed.ends_with("); rolled back to 1.1.0]"));
-  host.wait_line("[skill hello 1.1.0 loaded]");
+  host.wait_for_line("[skill hello 1.1.0 loaded]");
   CHECK(w.lock_version("hello") == "1.1.0");
   o = w.marvin("skill list" + dir);
   CHECK(o.text.starts_with("hello 1.1.0 [lua] (previous 1.2.0)"));
-  host.send("hello greet");
-  host.wait_line("Marvin: Hello from two");
+  host.send_line("hello greet");
+  host.wait_for_line("Marvin: Hello from two");
 
   // remove.
   o = w.marvin("skill remove hello" + dir);
   CHECK(o.text == "removed hello\n");
-  host.wait_line("[skill hello 1.1.0 unloaded]");
-  host.send("hello greet");
-  host.wait_line("You: hello greet");
-  host.wait_for("no-match answer", is_no_match);
+  host.wait_for_line("[skill hello 1.1.0 unloaded]");
+  host.send_line("hello greet");
+  host.wait_for_line("You: hello greet");
+  host.wait_for_line("no-match answer", is_no_match);
 
   // `marvin skills reload` asks the running host; a plain folder edited by hand is then
   // picked up (plain folders are not watched file by file).
   // (Made elsewhere and moved in, so the host never sees a half-written folder.)
   fs::path plain = test::lua_skill(w.tmp / "src", "plain", "1.0.0", "Plain here");
   fs::rename(plain, w.skills / "plain");
-  host.wait_line("[skill plain 1.0.0 loaded]");  // a new folder in the directory is seen
-  host.send("plain greet");
-  host.wait_line("Marvin: Plain here");
+  host.wait_for_line("[skill plain 1.0.0 loaded]");  // a new folder in the directory is seen
+  host.send_line("plain greet");
+  host.wait_for_line("Marvin: Plain here");
   fs::path main_lua = w.skills / "plain" / "main.lua";
   test::write_text(main_lua, "marvin.on(\"greet\", function() marvin.say(\"Plain edited\") end)\n");
   fs::last_write_time(main_lua, fs::last_write_time(main_lua) + std::chrono::hours(1));
   o = w.marvin("skills reload" + dir);
   CHECK(o.exit_code == 0);
   CHECK(o.text.starts_with("asked running hosts to reload the skills in "));
-  host.wait_line("[skill plain 1.0.0 loaded (was 1.0.0)]");
-  host.send("plain greet");
-  host.wait_line("Marvin: Plain edited");
+  host.wait_for_line("[skill plain 1.0.0 loaded (was 1.0.0)]");
+  host.send_line("plain greet");
+  host.wait_for_line("Marvin: Plain edited");
 
-  CHECK(host.finish() == 0);
+  CHECK(exit_code(host.finish()) == 0);
   CHECK(test::read_text(w.tmp / "host-stderr.txt").find("broken on purpose") != std::string::npos);
 }
 
@@ -373,43 +257,24 @@ TEST_CASE("the permission prompt on a terminal: n refuses and changes nothing, y
   // Runs `install` on a pseudo-terminal, answers `answer` to the prompt; returns the exit
   // code and everything shown.
   auto install_on_terminal = [&](const std::string& answer) {
-    int master = -1;
-    std::string home = "HOME=" + (w.tmp / "home").string();
-    pid_t pid = forkpty(&master, nullptr, nullptr, nullptr);
-    REQUIRE(pid >= 0);
-    if (pid == 0) {
-      const char* argv[] = {MARVIN_EXE,    "skill",        "install",        lamp.c_str(), "--key",
-                            w.pub.c_str(), "--skills-dir", w.skills.c_str(), nullptr};
-      const char* envp[] = {home.c_str(), nullptr};
-      execve(argv[0], const_cast<char**>(argv), const_cast<char**>(envp));
-      _exit(127);
-    }
-    std::string shown;
-    bool answered = false;
-    auto deadline = std::chrono::steady_clock::now() + kTimeout;
-    for (;;) {
-      auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-          deadline - std::chrono::steady_clock::now());
-      pollfd p{master, POLLIN, 0};
-      if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) break;
-      char buffer[1024];
-      ssize_t n = read(master, buffer, sizeof buffer);
-      if (n <= 0) break;  // EIO once the child has gone
-      shown.append(buffer, static_cast<std::size_t>(n));
-      if (!answered && shown.find("Approve? [y/N] ") != std::string::npos) {
-        std::string line = answer + "\n";
-        REQUIRE(write(master, line.data(), line.size()) == static_cast<ssize_t>(line.size()));
-        answered = true;
-      }
-    }
-    close(master);
-    int status = 0;
-    waitpid(pid, &status, 0);
+    ChildOptions on_terminal;
+    on_terminal.environment = {"HOME=" + (w.tmp / "home").string()};
+    on_terminal.clean_environment = true;
+    on_terminal.terminal = true;
+    ChildProcess install({MARVIN_EXE, "skill", "install", lamp.string(), "--key", w.pub.string(),
+                          "--skills-dir", w.skills.string()},
+                         on_terminal);
+    const bool answered = install.read_until([](const std::string& shown_so_far) {
+      return shown_so_far.find("Approve? [y/N] ") != std::string::npos;
+    });
+    if (answered) install.write(answer + "\n");
+    const int status = install.finish();
+    const std::string shown = install.output();
     INFO(shown);
     CHECK(answered);
     CHECK(shown.find("lamp 1.0.0 asks for these permissions:") != std::string::npos);
     CHECK(shown.find("  - light") != std::string::npos);
-    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, shown);
+    return std::make_pair(exit_code(status), shown);
   };
 
   CHECK(install_on_terminal("n").first != 0);

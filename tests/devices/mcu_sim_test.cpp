@@ -2,27 +2,24 @@
 // Real bytes, real tty, real processes; every wait is on a condition with a generous
 // timeout, and nothing asserts on time.
 #include <doctest/doctest.h>
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <stdlib.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <condition_variable>
 #include <filesystem>
-#include <fstream>
+#include <memory>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "devices/serial_body.h"
-
-extern char** environ;
+#include "mcu_simulator.h"
 
 using namespace marvin::devices;
+using marvin::devices::test::read_state;
+using marvin::devices::test::start_mcu_simulator;
+using marvin::test_support::ChildProcess;
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 
@@ -64,44 +61,6 @@ struct Recorder {
   }
 };
 
-class SimProcess {
- public:
-  SimProcess(const fs::path& link, const fs::path& state) {
-    std::vector<std::string> args = {MARVIN_MCU_SIM, "--room",  MARVIN_ROOM,   "--link",
-                                     link.string(),  "--state", state.string()};
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    int rc = posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    REQUIRE(rc == 0);
-  }
-  ~SimProcess() { stop(SIGTERM); }
-  void stop(int sig) {
-    if (pid_ <= 0) return;
-    ::kill(pid_, sig);
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-    pid_ = -1;
-  }
-
- private:
-  pid_t pid_ = -1;
-};
-
-nlohmann::json read_state(const fs::path& p) {
-  std::ifstream in(p);
-  if (!in) return {};
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return {};
-  }
-}
-
 }  // namespace
 
 TEST_CASE("serial body drives marvin-mcu-sim to a wall, stops by itself, survives a restart") {
@@ -110,7 +69,7 @@ TEST_CASE("serial body drives marvin-mcu-sim to a wall, stops by itself, survive
   fs::path dir = tmpl;
   fs::path link = dir / "tty", state = dir / "state.json";
 
-  auto sim = std::make_unique<SimProcess>(link, state);
+  auto sim = std::make_unique<ChildProcess>(start_mcu_simulator(link, state));
   Recorder rec;
   LinkOptions options{link.string(), 50ms, 1500ms};
   SerialBody body(options, SweepSettings{0, 30, 15});
@@ -165,7 +124,7 @@ TEST_CASE("serial body drives marvin-mcu-sim to a wall, stops by itself, survive
 
   // ... and comes back at the same path: the link reconnects and the body works again.
   auto statuses_before = rec.statuses;
-  sim = std::make_unique<SimProcess>(link, state);
+  sim = std::make_unique<ChildProcess>(start_mcu_simulator(link, state));
   REQUIRE(rec.wait(
       [&] { return body.link().counters().connects >= 2 && rec.statuses >= statuses_before + 2; }));
   CHECK(rec.wait([&] { return read_state(state).value("leds", 0) == MV_LED_YELLOW; }));  // resent
@@ -181,6 +140,6 @@ TEST_CASE("serial body drives marvin-mcu-sim to a wall, stops by itself, survive
 
   body.link().remove_callback(cb);
   body.link().remove_callback(scb);
-  sim.reset();
+  sim->stop(SIGTERM);
   fs::remove_all(dir);
 }

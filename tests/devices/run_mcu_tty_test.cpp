@@ -3,41 +3,27 @@
 // must show the body travelled and the status light the host set. Real processes, real
 // tty bytes; every wait is on a condition with a generous timeout.
 #include <doctest/doctest.h>
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
 #include <poll.h>
+#include <signal.h>
 #include <sys/inotify.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
-#include <vector>
 
+#include "mcu_simulator.h"
 #include "protocol/marvin_protocol.h"
-
-extern char** environ;
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
+using marvin::devices::test::read_state;
+using marvin::devices::test::start_mcu_simulator;
+using marvin::test_support::ChildProcess;
 
 namespace {
-
-nlohmann::json read_state(const fs::path& p) {
-  std::ifstream in(p);
-  if (!in) return {};
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return {};  // caught mid-write: read again
-  }
-}
 
 // Waits until `pred` (about a file another process rewrites) holds: re-checks on every file
 // event in `dir` (inotify), never by sleeping; false after `timeout`.
@@ -61,22 +47,6 @@ bool eventually(const fs::path& dir, Pred pred, std::chrono::seconds timeout = 6
   }
   ::close(fd);
   return held;
-}
-
-pid_t spawn_simulator(const fs::path& link, const fs::path& state) {
-  std::vector<std::string> args = {MARVIN_MCU_SIM, "--room",  MARVIN_ROOM,   "--link",
-                                   link.string(),  "--state", state.string()};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  pid_t pid = -1;
-  int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  REQUIRE(rc == 0);
-  return pid;
 }
 
 void write_file(const fs::path& path, const std::string& text) {
@@ -104,22 +74,18 @@ TEST_CASE("run --sim --mcu-tty: a skill's move drives the simulated base over th
     end)
   )");
 
-  pid_t sim = spawn_simulator(link, state);
+  ChildProcess sim = start_mcu_simulator(link, state);
   REQUIRE(eventually(dir, [&] { return read_state(state).contains("x"); }));
   const double start_x = read_state(state).value("x", 0.0);
 
-  std::ofstream(dir / "input.txt") << "drive forward\n";
-  const std::string command = "MARVIN_SKILLS_DIR='" + (dir / "none").string() + "' '" +
-                              MARVIN_EXE + "' run --sim --in-memory --no-builtin-skills " +
-                              "--skills-dir '" + (dir / "skills").string() + "' --mcu-tty '" +
-                              link.string() + "' < '" + (dir / "input.txt").string() +
-                              "' 2> '" + (dir / "stderr.txt").string() + "'";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string output;
-  char buffer[4096];
-  while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  const int status = ::pclose(pipe);
+  marvin::test_support::ChildOptions host_options;
+  host_options.environment = {"MARVIN_SKILLS_DIR=" + (dir / "none").string()};
+  ChildProcess host({MARVIN_EXE, "run", "--sim", "--in-memory", "--no-builtin-skills",
+                     "--skills-dir", (dir / "skills").string(), "--mcu-tty", link.string()},
+                    host_options);
+  host.write("drive forward\n");
+  const int status = host.finish();
+  const std::string output = host.output();
   INFO("output:\n" << output);
 
   CHECK(WIFEXITED(status));
@@ -135,8 +101,6 @@ TEST_CASE("run --sim --mcu-tty: a skill's move drives the simulated base over th
   INFO("simulator state: " << read_state(state).dump());
   CHECK(read_state(state).value("collisions", -1) == 0);
 
-  ::kill(sim, SIGTERM);
-  int sim_status = 0;
-  ::waitpid(sim, &sim_status, 0);
+  sim.stop(SIGTERM);
   fs::remove_all(dir);
 }

@@ -5,19 +5,16 @@
 // WAV, which is aligned with the input: silence while the user speaks, speech where Marvin
 // answers, cut short where "Marvin, stop" was said.
 #include <doctest/doctest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "devices/audio/sound_file.h"
 #include "speech_fixture.h"
+#include "support/child_process.h"
 
 namespace fs = std::filesystem;
 using namespace marvin::perception::testing;
@@ -79,27 +76,23 @@ fs::path temp_dir() {
 
 Result run_marvin(const std::string& arguments, const Recording* input = nullptr) {
   const fs::path dir = temp_dir();
-  const fs::path in = dir / "in.wav", out = dir / "out.wav", err = dir / "stderr.txt";
+  const fs::path in = dir / "in.wav", out = dir / "out.wav";
   fs::remove(out);
-  std::string command = "MARVIN_DATA_DIR='" + (dir / "data").string() + "' '" + MARVIN_EXE +
-                        "' " + arguments;
+  // The arguments are shell words, so a shell runs the command line.
+  std::string command = std::string("'") + MARVIN_EXE + "' " + arguments;
   if (input) {
     marvin::audio::write_speech_file(in, input->audio);
     command += " --audio-in '" + in.string() + "' --audio-out '" + out.string() + "'";
   }
-  command += " < /dev/null 2> '" + err.string() + "'";
+  marvin::test_support::ChildOptions options;
+  options.environment = {"MARVIN_DATA_DIR=" + (dir / "data").string()};
+  options.in = marvin::test_support::ChildStream::kNull;
+  marvin::test_support::ChildProcess child =
+      marvin::test_support::ChildProcess::shell(command, options);
   Result result;
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string output;
-  char buffer[4096];
-  while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::istringstream lines(output);
-  for (std::string line; std::getline(lines, line);) result.lines.push_back(line);
-  std::ifstream e(err);
-  result.errors.assign(std::istreambuf_iterator<char>(e), {});
+  result.exit_code = marvin::test_support::exit_code(child.finish());
+  result.lines = child.output_lines();
+  result.errors = child.errors();
   if (fs::exists(out)) result.output = marvin::audio::read_speech_file(out);
   return result;
 }

@@ -3,18 +3,18 @@
 // reminders kept in the SQLite store across runs and spoken by the scheduler. Every run
 // gets $MARVIN_DATA_DIR in a temporary folder, so the real home directory is never used.
 #include <doctest/doctest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "support/child_process.h"
+
 namespace fs = std::filesystem;
+using marvin::test_support::ChildProcess;
 
 namespace {
 
@@ -56,26 +56,19 @@ struct TempDataDir {
 Result run_marvin(const std::string& arguments, const std::string& input) {
   fs::path dir = fs::temp_directory_path() / ("marvin_sim_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  std::ofstream(dir / "input.txt") << input;
-  // The installed-skills default is loaded without --skills-dir: never the real one.
-  std::string command = "MARVIN_SKILLS_DIR='" + (dir / "no-installed-skills").string() +
-                        "' MARVIN_DATA_DIR='" + (dir / "default-data").string() + "' '" +
-                        MARVIN_EXE + "' " + arguments + " < '" +
-                        (dir / "input.txt").string() + "' 2> '" + (dir / "stderr.txt").string() +
-                        "'";
+  // The installed-skills default is loaded without --skills-dir: never the real one. The
+  // arguments are shell words (quoted paths), so a shell runs the command line.
+  marvin::test_support::ChildOptions options;
+  options.environment = {"MARVIN_SKILLS_DIR=" + (dir / "no-installed-skills").string(),
+                         "MARVIN_DATA_DIR=" + (dir / "default-data").string()};
+  ChildProcess child = ChildProcess::shell(std::string("'") + MARVIN_EXE + "' " + arguments,
+                                           options);
+  child.write(input);
   Result result;
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string output;
-  char buffer[4096];
-  while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::istringstream lines(output);
-  for (std::string line; std::getline(lines, line);) result.lines.push_back(line);
+  result.exit_code = marvin::test_support::exit_code(child.finish());
+  result.lines = child.output_lines();
+  result.errors = child.errors();
   result.used_default_data_dir = fs::exists(dir / "default-data");
-  std::ifstream err(dir / "stderr.txt");
-  result.errors.assign(std::istreambuf_iterator<char>(err), {});
   fs::remove_all(dir);
   return result;
 }

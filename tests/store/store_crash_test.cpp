@@ -72,8 +72,8 @@ TEST_CASE("an install killed at any step leaves the old or the new version, neve
   SecretKey key = generate_secret_key();
   fs::path skills = t / "skills";
   // Old and new differ in every file, and the new one has a file more.
-  fs::path v1 = pack_to(make_skill_dir(t / "src", "demo", "1.0.0", {"speech"}), t / "pkgs", key);
-  fs::path v2 = pack_to(make_skill_dir(t / "src", "demo", "2.0.0", {"speech"}, "^1.0", "extra.lua"), t / "pkgs", key);
+  fs::path v1 = pack_signed(make_skill_dir(t / "src", "demo", "1.0.0", {"speech"}), t / "pkgs", key);
+  fs::path v2 = pack_signed(make_skill_dir(t / "src", "demo", "2.0.0", {"speech"}, "^1.0", "extra.lua"), t / "pkgs", key);
   std::map<std::string, std::map<std::string, std::string>> packages{
       {"1.0.0", package_files(v1)}, {"2.0.0", package_files(v2)}};
   PackageSource s1{v1, {}, {key.public_key()}, std::nullopt, "test"};

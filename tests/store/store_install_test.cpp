@@ -28,7 +28,7 @@ struct Fixture {
   Installer installer() { return Installer(skills, options); }
   fs::path package(const std::string& id, const std::string& version, const std::vector<std::string>& perms = {},
                    const std::string& host_api = "^1.0") {
-    return pack_to(make_skill_dir(tmp / "src", id, version, perms, host_api), pkgs, key);
+    return pack_signed(make_skill_dir(tmp / "src", id, version, perms, host_api), pkgs, key);
   }
   PackageSource source(const fs::path& p) { return PackageSource{p, {}, {key.public_key()}, std::nullopt, "test"}; }
   InstallResult install(const fs::path& p) { return installer().install(source(p)); }
@@ -159,7 +159,7 @@ TEST_CASE("validate hook and native architecture") {
       write_text(dir / "skill.json", R"({"id":"dice","version":")" + version +
                                          R"(","kind":"native","host_api":"^1.0","library":"libdice.so"})");
       write_file_atomic(dir / "libdice.so", fake_elf_so(machine));
-      return pack_to(dir, f.pkgs, f.key);
+      return pack_signed(dir, f.pkgs, f.key);
     };
     f.install(native("1.0.0", host_elf_arch().machine));
     CHECK(f.current_version("dice") == "1.0.0");

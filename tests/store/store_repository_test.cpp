@@ -26,8 +26,8 @@ TEST_CASE("the signed example repository: build from the example skills, search,
   TempDir t;
   SecretKey key = generate_secret_key();
   fs::path repo = t / "repo";
-  pack_to(demo_dir() / "hello", repo, key);
-  pack_to(demo_dir() / "notes", repo, key);
+  pack_signed(demo_dir() / "hello", repo, key);
+  pack_signed(demo_dir() / "notes", repo, key);
   RepositoryIndex built = build_repository_index(repo, "demo", key);
   CHECK(built.sequence == 1);
   REQUIRE(built.skills.size() == 2);
@@ -53,7 +53,7 @@ TEST_CASE("the signed example repository: build from the example skills, search,
   std::string manifest = read_text(v2 / "skill.json");
   manifest.replace(manifest.find("1.0.0"), 5, "1.1.0");
   write_text(v2 / "skill.json", manifest);
-  pack_to(v2, repo, key);
+  pack_signed(v2, repo, key);
   CHECK(build_repository_index(repo, "demo", key).sequence == 2);
   r = open_repository(config, &seen);
   const IndexEntry* latest = r.index.find("hello");
@@ -67,7 +67,7 @@ TEST_CASE("a stale, replayed, tampered or untrusted index is refused") {
   TempDir t;
   SecretKey key = generate_secret_key();
   fs::path repo = t / "repo";
-  pack_to(demo_dir() / "hello", repo, key);
+  pack_signed(demo_dir() / "hello", repo, key);
   build_repository_index(repo, "demo", key, 5);
   const std::string old_index = read_text(repo / "index.json");
   const std::string old_sig = read_text(repo / "index.json.minisig");

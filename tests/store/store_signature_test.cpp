@@ -122,7 +122,7 @@ TEST_CASE("interop: keys made by minisign -G -W; minisign verifies ours, we veri
   CHECK(sk.key_id == pk.key_id);
 
   fs::path skill = make_skill_dir(t.path(), "demo", "1.0.0");
-  fs::path pkg = pack_to(skill, t / "out", sk);
+  fs::path pkg = pack_signed(skill, t / "out", sk);
 
   SUBCASE("minisign verifies our signature and shows our trusted comment") {
     fs::path out = t / "verify.txt";

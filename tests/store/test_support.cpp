@@ -3,43 +3,16 @@
 #include <archive.h>
 #include <archive_entry.h>
 #include <elf.h>
-#include <stdlib.h>
 #include <sys/sysmacros.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 
 #include "store/util.h"
 
 namespace marvin::store::test {
-
-TempDir::TempDir() {
-  std::string tmpl = (fs::temp_directory_path() / "marvin-store-test-XXXXXX").string();
-  if (::mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-  path_ = tmpl;
-}
-
-TempDir::~TempDir() {
-  std::error_code ec;
-  fs::remove_all(path_, ec);
-}
-
-void write_text(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 fs::path make_skill_dir(const fs::path& parent, const std::string& id, const std::string& version,
                         const std::vector<std::string>& permissions, const std::string& host_api,
@@ -108,32 +81,6 @@ fs::path write_signed(const fs::path& dir, const std::string& name, const Bytes&
   write_file_atomic(signature_path_for(p),
                     sign_message(bytes, key, package_trusted_comment(id_at_version, sha256_digest(bytes))));
   return p;
-}
-
-fs::path pack_to(const fs::path& skill_dir, const fs::path& out_dir, const SecretKey& key) {
-  PackedSkill p = pack_skill(skill_dir, &key);
-  fs::create_directories(out_dir);
-  fs::path file = out_dir / p.file_name();
-  write_file_atomic(file, p.archive);
-  write_file_atomic(signature_path_for(file), *p.signature);
-  return file;
-}
-
-std::map<std::string, std::string> snapshot(const fs::path& root) {
-  std::map<std::string, std::string> out;
-  if (!fs::exists(root)) return out;
-  for (auto it = fs::recursive_directory_iterator(root); it != fs::recursive_directory_iterator(); ++it) {
-    std::string rel = fs::relative(it->path(), root).generic_string();
-    fs::file_status st = it->symlink_status();
-    if (fs::is_symlink(st)) {
-      out[rel] = "link:" + fs::read_symlink(it->path()).string();
-    } else if (fs::is_directory(st)) {
-      out[rel] = "dir";
-    } else {
-      out[rel] = "file:" + read_text(it->path());
-    }
-  }
-  return out;
 }
 
 std::map<std::string, std::string> package_files(const fs::path& package) {

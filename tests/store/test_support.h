@@ -1,5 +1,6 @@
-// Helpers for the store tests: temporary directories, skill folders, hand-made (hostile)
-// archives, signed packages, and byte-for-byte snapshots of a directory tree.
+// Helpers for the store tests: skill folders, hand-made (hostile) archives, signed raw
+// bytes, package contents. Temporary directories, files, snapshots and signed packages are
+// the shared ones (tests/support).
 #pragma once
 
 #include <archive_entry.h>
@@ -13,26 +14,15 @@
 #include "store/installer.h"
 #include "store/minisign.h"
 #include "store/package.h"
+#include "support/files.h"
+#include "support/signed_package.h"
 
 namespace marvin::store::test {
 
 namespace fs = std::filesystem;
 
-class TempDir {
- public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-  fs::path operator/(const std::string& s) const { return path_ / s; }
-
- private:
-  fs::path path_;
-};
-
-void write_text(const fs::path& p, const std::string& text);
-std::string read_text(const fs::path& p);
+// TempDir, write_text, read_text, snapshot, pack_signed.
+using namespace test_support;
 
 // A Lua skill folder with skill.json and main.lua.
 fs::path make_skill_dir(const fs::path& parent, const std::string& id, const std::string& version,
@@ -55,12 +45,6 @@ Bytes raw_archive(const std::vector<RawEntry>& entries);
 // Writes `bytes` as <dir>/<name> and signs it for `id_at_version` with `key`.
 fs::path write_signed(const fs::path& dir, const std::string& name, const Bytes& bytes,
                       const SecretKey& key, const std::string& id_at_version);
-
-// Packs and signs a skill folder into <dir>/<id>-<version>.mskill.
-fs::path pack_to(const fs::path& skill_dir, const fs::path& out_dir, const SecretKey& key);
-
-// Path → ("file:"+content | "link:"+target | "dir") for everything under `root`.
-std::map<std::string, std::string> snapshot(const fs::path& root);
 
 // The files of a package, as extracted.
 std::map<std::string, std::string> package_files(const fs::path& package);

@@ -1,0 +1,38 @@
+// marvin-mcu-sim for the device integration tests: started on a pseudo-terminal at `link`
+// in the corridor room, writing its body's state to `state`, which the tests read back.
+// Needs MARVIN_MCU_SIM and MARVIN_ROOM (tests/devices/CMakeLists.txt).
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "support/child_process.h"
+
+namespace marvin::devices::test {
+
+// The simulator's stdout (the pty slave's name) goes to /dev/null; stderr is the test's.
+inline test_support::ChildProcess start_mcu_simulator(const std::filesystem::path& link,
+                                                      const std::filesystem::path& state) {
+  test_support::ChildOptions options;
+  options.in = test_support::ChildStream::kInherit;
+  options.out = test_support::ChildStream::kNull;
+  options.err = test_support::ChildStream::kInherit;
+  return test_support::ChildProcess(
+      {MARVIN_MCU_SIM, "--room", MARVIN_ROOM, "--link", link.string(), "--state", state.string()},
+      options);
+}
+
+// The simulator's last state, or null while there is none (not written yet, or caught
+// mid-write: read again).
+inline nlohmann::json read_state(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  if (!in) return {};
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return {};
+  }
+}
+
+}  // namespace marvin::devices::test
