@@ -14,6 +14,14 @@ if(MARVIN_SANITIZE)
   endif()
 endif()
 
+if(CMAKE_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  # A unity build (scripts/build turns it on: it halves compile time) includes each .cpp
+  # into a generated one, so GCC takes our sources for headers and warns when a class
+  # defined there uses a type from the file's anonymous namespace. Only headers need that
+  # warning; a header of ours that did it would still be caught by normal builds.
+  add_compile_options($<$<COMPILE_LANGUAGE:CXX>:-Wno-subobject-linkage>)
+endif()
+
 # marvin_target_defaults(TARGET): our warning set (errors under MARVIN_WERROR).
 function(marvin_target_defaults target)
   get_target_property(type ${target} TYPE)

@@ -14,18 +14,18 @@ namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void fail(const std::string& origin, const std::string& path, const std::string& what) {
+[[noreturn]] void index_error(const std::string& origin, const std::string& path, const std::string& what) {
   throw std::runtime_error(origin + ": " + path + ": " + what);
 }
 
 const json& field(const json& j, const std::string& name, json::value_t type, const std::string& origin,
                   const std::string& path) {
   auto it = j.find(name);
-  if (it == j.end()) fail(origin, path + "." + name, "missing");
+  if (it == j.end()) index_error(origin, path + "." + name, "missing");
   bool ok = it->type() == type ||
             (type == json::value_t::number_unsigned && it->type() == json::value_t::number_integer &&
              it->get<std::int64_t>() >= 0);
-  if (!ok) fail(origin, path + "." + name, std::string("wrong type (") + it->type_name() + ")");
+  if (!ok) index_error(origin, path + "." + name, std::string("wrong type (") + it->type_name() + ")");
   return *it;
 }
 
@@ -55,7 +55,7 @@ RepositoryIndex parse_index(const std::string& text, const std::string& origin) 
   if (!j.is_object()) throw std::runtime_error(origin + ": expected a JSON object");
   RepositoryIndex index;
   const json& format = field(j, "format", json::value_t::string, origin, "$");
-  if (format.get<std::string>() != "marvin-index/1") fail(origin, "$.format", "unsupported format \"" + format.get<std::string>() + "\"");
+  if (format.get<std::string>() != "marvin-index/1") index_error(origin, "$.format", "unsupported format \"" + format.get<std::string>() + "\"");
   index.name = field(j, "name", json::value_t::string, origin, "$").get<std::string>();
   index.sequence = field(j, "sequence", json::value_t::number_unsigned, origin, "$").get<std::uint64_t>();
   index.digest = sha256_digest(std::span<const std::uint8_t>(
@@ -63,28 +63,28 @@ RepositoryIndex parse_index(const std::string& text, const std::string& origin) 
   const json& skills = field(j, "skills", json::value_t::object, origin, "$");
   for (const auto& [id, skill] : skills.items()) {
     std::string spath = "$.skills." + id;
-    if (!is_valid_skill_id(id)) fail(origin, spath, "not a valid skill id");
-    if (!skill.is_object()) fail(origin, spath, "expected an object");
+    if (!is_valid_skill_id(id)) index_error(origin, spath, "not a valid skill id");
+    if (!skill.is_object()) index_error(origin, spath, "expected an object");
     const json& versions = field(skill, "versions", json::value_t::object, origin, spath);
     std::vector<IndexEntry>& list = index.skills[id];
     for (const auto& [vtext, v] : versions.items()) {
       std::string vpath = spath + ".versions." + vtext;
-      if (!v.is_object()) fail(origin, vpath, "expected an object");
+      if (!v.is_object()) index_error(origin, vpath, "expected an object");
       IndexEntry e;
       e.id = id;
       e.version = parse_version(vtext, origin + ": " + vpath);
       e.file = field(v, "file", json::value_t::string, origin, vpath).get<std::string>();
       if (e.file.empty() || e.file.find('/') != std::string::npos || e.file == "." || e.file == "..") {
-        fail(origin, vpath + ".file", "must be a plain file name");
+        index_error(origin, vpath + ".file", "must be a plain file name");
       }
       e.digest = field(v, "digest", json::value_t::string, origin, vpath).get<std::string>();
-      if (e.digest.rfind("sha256:", 0) != 0 || e.digest.size() != 71) fail(origin, vpath + ".digest", "expected sha256:<64 hex digits>");
+      if (e.digest.rfind("sha256:", 0) != 0 || e.digest.size() != 71) index_error(origin, vpath + ".digest", "expected sha256:<64 hex digits>");
       e.size = field(v, "size", json::value_t::number_unsigned, origin, vpath).get<std::uint64_t>();
       e.kind = field(v, "kind", json::value_t::string, origin, vpath).get<std::string>();
       e.host_api = field(v, "host_api", json::value_t::string, origin, vpath).get<std::string>();
       const json& perms = field(v, "permissions", json::value_t::array, origin, vpath);
       for (const json& p : perms) {
-        if (!p.is_string()) fail(origin, vpath + ".permissions", "expected strings");
+        if (!p.is_string()) index_error(origin, vpath + ".permissions", "expected strings");
         e.permissions.push_back(p.get<std::string>());
       }
       list.push_back(std::move(e));

@@ -8,8 +8,10 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace marvin::app {
 
@@ -24,6 +26,14 @@ class CliError : public std::runtime_error {
 };
 
 using CommandInstaller = void (*)(CLI::App& root);
+
+// Writes one line of a subcommand's output and flushes it, so a pipe or a test reading the
+// output sees each line as soon as it is written.
+inline void write_line(std::string_view text) {
+  std::fwrite(text.data(), 1, text.size(), stdout);
+  std::fputc('\n', stdout);
+  std::fflush(stdout);
+}
 
 // The subcommand `name` of `parent`, created (requiring a subcommand of its own) if no
 // installer made it yet. Several areas add to one group: `marvin skill new` (Lua) and

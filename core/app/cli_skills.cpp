@@ -42,12 +42,6 @@ struct RunOptions {
   VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
 };
 
-void write_line(std::string_view text) {
-  std::fwrite(text.data(), 1, text.size(), stdout);
-  std::fputc('\n', stdout);
-  std::fflush(stdout);
-}
-
 HostOptions host_options(const RunOptions& o) {
   HostOptions h;
   for (const auto& dir : o.skills_dirs) h.skills_dirs.emplace_back(dir);

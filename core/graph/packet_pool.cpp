@@ -19,10 +19,10 @@ namespace {
 
 constexpr std::size_t kClassCount = 4;
 constexpr std::array<std::size_t, kClassCount> kClassSize = {32, 64, 128, 256};
-// A thread keeps up to kCacheMax blocks per class and moves kBatch at a time to or from the
-// shared list, so the shared mutex is taken once per kBatch packets at most.
+// A thread keeps up to kCacheMax blocks per class and moves kTransferBatch at a time to or from the
+// shared list, so the shared mutex is taken once per kTransferBatch packets at most.
 constexpr std::size_t kCacheMax = 256;
-constexpr std::size_t kBatch = 64;
+constexpr std::size_t kTransferBatch = 64;
 
 int class_of(std::size_t size) {
   for (std::size_t i = 0; i < kClassCount; ++i) {
@@ -82,7 +82,7 @@ void* pool_allocate(std::size_t size) {
     {
       std::lock_guard lock(s.mutex);
       std::vector<void*>& list = s.free[cls];
-      while (tc.count[cls] < kBatch && !list.empty()) {
+      while (tc.count[cls] < kTransferBatch && !list.empty()) {
         tc.blocks[cls][tc.count[cls]++] = list.back();
         list.pop_back();
       }
@@ -113,7 +113,7 @@ void pool_free(void* block, std::size_t size) noexcept {
     SharedLists& s = shared();
     try {
       std::lock_guard lock(s.mutex);
-      for (std::size_t i = 0; i < kBatch; ++i) s.free[cls].push_back(tc.blocks[cls][--tc.count[cls]]);
+      for (std::size_t i = 0; i < kTransferBatch; ++i) s.free[cls].push_back(tc.blocks[cls][--tc.count[cls]]);
     } catch (...) {
       // Out of memory growing the shared list: the block just goes back to the heap.
       ::operator delete(block);

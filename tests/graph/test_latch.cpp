@@ -4,13 +4,13 @@
 #include "test_nodes.h"
 
 using namespace marvin::graph;
+using testing::int_at;
 using testing::quiet_options;
 using testing::Recorder;
 
 namespace {
 
 Packet bool_at(bool v, Timestamp ts) { return Packet::make<bool>(v).at(ts); }
-Packet int_at(Timestamp ts) { return Packet::make<int64_t>(int64_t{ts}).at(ts); }
 
 GraphConfig latch_graph() {
   GraphConfig c;

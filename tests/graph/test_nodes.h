@@ -10,6 +10,9 @@
 
 namespace marvin::graph::testing {
 
+// An int64 packet carrying its own timestamp, so a test can tell which packet arrived.
+inline Packet int_at(Timestamp ts) { return Packet::make<int64_t>(int64_t{ts}).at(ts); }
+
 // Collects packets seen on an output (Graph::observe) and lets a test wait for a count.
 class Recorder {
  public:

@@ -4,12 +4,12 @@
 
 #include "graph/stream.h"
 #include "graph/watchdog.h"
+#include "test_nodes.h"
 
 using namespace marvin::graph;
+using testing::int_at;
 
 namespace {
-
-Packet int_at(Timestamp ts) { return Packet::make<int64_t>(int64_t{ts}).at(ts); }
 
 std::vector<Timestamp> drain(Stream& s, std::vector<bool>* flags = nullptr) {
   std::vector<Timestamp> out;
