@@ -37,6 +37,23 @@ std::vector<std::int16_t> random_int8(std::size_t n, std::mt19937_64& rng) {
   return v;
 }
 
+// c[m][j] = sum_i a[m][i] * w[j][i], the plain loops every kernel must match exactly.
+template <typename A>
+std::vector<std::int32_t> reference_gemm(const std::vector<A>& a, int rows,
+                                         const std::vector<std::int16_t>& w, int cols, int depth) {
+  std::vector<std::int32_t> c(static_cast<std::size_t>(rows) * cols);
+  for (int m = 0; m < rows; ++m) {
+    for (int j = 0; j < cols; ++j) {
+      std::int64_t s = 0;
+      for (int i = 0; i < depth; ++i) {
+        s += a[static_cast<std::size_t>(m) * depth + i] * w[static_cast<std::size_t>(j) * depth + i];
+      }
+      c[static_cast<std::size_t>(m) * cols + j] = static_cast<std::int32_t>(s);
+    }
+  }
+  return c;
+}
+
 }  // namespace
 
 TEST_CASE("every available int8 kernel gives exactly the reference sums, odd sizes too") {
@@ -59,16 +76,7 @@ TEST_CASE("every available int8 kernel gives exactly the reference sums, odd siz
       CAPTURE(depth);
       const auto a = random_int8(static_cast<std::size_t>(rows) * depth, rng);
       const auto w = random_int8(static_cast<std::size_t>(cols) * depth, rng);
-      std::vector<std::int32_t> ref(static_cast<std::size_t>(rows) * cols);
-      for (int m = 0; m < rows; ++m) {
-        for (int j = 0; j < cols; ++j) {
-          std::int64_t s = 0;
-          for (int i = 0; i < depth; ++i) {
-            s += a[static_cast<std::size_t>(m) * depth + i] * w[static_cast<std::size_t>(j) * depth + i];
-          }
-          ref[static_cast<std::size_t>(m) * cols + j] = static_cast<std::int32_t>(s);
-        }
-      }
+      const std::vector<std::int32_t> ref = reference_gemm(a, rows, w, cols, depth);
       // A guard past the end shows a kernel writing outside its rows x cols.
       std::vector<std::int32_t> got(ref.size() + 16, -1);
       k.run(a.data(), rows, w.data(), cols, depth, got.data());
@@ -96,16 +104,7 @@ TEST_CASE("the AVX-512 byte kernel gives exactly the reference sums for unsigned
     std::vector<std::uint8_t> a(static_cast<std::size_t>(rows) * depth);
     for (auto& x : a) x = static_cast<std::uint8_t>(u(rng));
     const auto w = random_int8(static_cast<std::size_t>(cols) * depth, rng);
-    std::vector<std::int32_t> ref(static_cast<std::size_t>(rows) * cols);
-    for (int m = 0; m < rows; ++m) {
-      for (int j = 0; j < cols; ++j) {
-        std::int64_t s = 0;
-        for (int i = 0; i < depth; ++i) {
-          s += a[static_cast<std::size_t>(m) * depth + i] * w[static_cast<std::size_t>(j) * depth + i];
-        }
-        ref[static_cast<std::size_t>(m) * cols + j] = static_cast<std::int32_t>(s);
-      }
-    }
+    const std::vector<std::int32_t> ref = reference_gemm(a, rows, w, cols, depth);
     std::vector<std::int32_t> got(ref.size() + 16, -1);
     kws::gemm_u8s8_avx512(a.data(), rows, w.data(), cols, depth, got.data());
     CHECK(std::vector<std::int32_t>(got.begin(), got.begin() + static_cast<std::ptrdiff_t>(ref.size())) == ref);
