@@ -46,7 +46,8 @@ std::vector<std::int32_t> reference_gemm(const std::vector<A>& a, int rows,
     for (int j = 0; j < cols; ++j) {
       std::int64_t s = 0;
       for (int i = 0; i < depth; ++i) {
-        s += a[static_cast<std::size_t>(m) * depth + i] * w[static_cast<std::size_t>(j) * depth + i];
+        s += a[static_cast<std::size_t>(m) * depth + i] *
+             w[static_cast<std::size_t>(j) * depth + i];
       }
       c[static_cast<std::size_t>(m) * cols + j] = static_cast<std::int32_t>(s);
     }
@@ -80,8 +81,10 @@ TEST_CASE("every available int8 kernel gives exactly the reference sums, odd siz
       // A guard past the end shows a kernel writing outside its rows x cols.
       std::vector<std::int32_t> got(ref.size() + 16, -1);
       k.run(a.data(), rows, w.data(), cols, depth, got.data());
-      CHECK(std::vector<std::int32_t>(got.begin(), got.begin() + static_cast<std::ptrdiff_t>(ref.size())) == ref);
-      CHECK(std::vector<std::int32_t>(got.end() - 16, got.end()) == std::vector<std::int32_t>(16, -1));
+      CHECK(std::vector<std::int32_t>(
+                got.begin(), got.begin() + static_cast<std::ptrdiff_t>(ref.size())) == ref);
+      CHECK(std::vector<std::int32_t>(got.end() - 16, got.end()) ==
+            std::vector<std::int32_t>(16, -1));
     }
   }
 }
@@ -95,7 +98,8 @@ TEST_CASE("the AVX-512 byte kernel gives exactly the reference sums for unsigned
   std::uniform_int_distribution<int> u(0, 255);
   // Depths that are not whole groups of 4 (1, 2, 3 left over) and cols not of 16.
   const std::tuple<int, int, int> shapes[] = {
-      {32, 64, 2560}, {1, 32, 2048}, {7, 5, 33}, {13, 19, 2}, {6, 17, 47}, {11, 67, 2563}, {1, 1, 1},
+      {32, 64, 2560}, {1, 32, 2048}, {7, 5, 33},  {13, 19, 2},
+      {6, 17, 47},    {11, 67, 2563}, {1, 1, 1},
   };
   for (auto [rows, cols, depth] : shapes) {
     CAPTURE(rows);
@@ -107,8 +111,10 @@ TEST_CASE("the AVX-512 byte kernel gives exactly the reference sums for unsigned
     const std::vector<std::int32_t> ref = reference_gemm(a, rows, w, cols, depth);
     std::vector<std::int32_t> got(ref.size() + 16, -1);
     kws::gemm_u8s8_avx512(a.data(), rows, w.data(), cols, depth, got.data());
-    CHECK(std::vector<std::int32_t>(got.begin(), got.begin() + static_cast<std::ptrdiff_t>(ref.size())) == ref);
-    CHECK(std::vector<std::int32_t>(got.end() - 16, got.end()) == std::vector<std::int32_t>(16, -1));
+    CHECK(std::vector<std::int32_t>(
+                got.begin(), got.begin() + static_cast<std::ptrdiff_t>(ref.size())) == ref);
+    CHECK(std::vector<std::int32_t>(got.end() - 16, got.end()) ==
+            std::vector<std::int32_t>(16, -1));
   }
 }
 

@@ -223,7 +223,8 @@ MARVIN_KWS_AVX512 void requantize(const std::int32_t* acc, int groups, int pool,
       const std::int32_t* r = acc + static_cast<std::ptrdiff_t>(g) * pool * cols + c0;
       __m512i m = _mm512_maskz_loadu_epi32(k, r);
       for (int p = 1; p < pool; ++p) {
-        m = _mm512_max_epi32(m, _mm512_maskz_loadu_epi32(k, r + static_cast<std::ptrdiff_t>(p) * cols));
+        m = _mm512_max_epi32(
+            m, _mm512_maskz_loadu_epi32(k, r + static_cast<std::ptrdiff_t>(p) * cols));
       }
       m = _mm512_add_epi32(m, _mm512_maskz_loadu_epi32(k, bias + c0));
       __m512 f = _mm512_mul_ps(_mm512_cvtepi32_ps(m), _mm512_maskz_loadu_ps(k, to_real + c0));

@@ -169,7 +169,9 @@ void FloatInference::run(std::span<const float> input, std::span<float> probabil
       float* out = a1_.data() + (t * kPooledFreq + g) * kConv1Maps;
       for (int c = 0; c < kConv1Maps; ++c) {
         float m = z1(t * kConv1OutFreq + g * kPoolFreq, c);
-        for (int k = 1; k < kPoolFreq; ++k) m = std::max(m, z1(t * kConv1OutFreq + g * kPoolFreq + k, c));
+        for (int k = 1; k < kPoolFreq; ++k) {
+          m = std::max(m, z1(t * kConv1OutFreq + g * kPoolFreq + k, c));
+        }
         out[c] = std::max(0.0f, m + net_.conv1.bias[static_cast<std::size_t>(c)]);
       }
     }
@@ -300,7 +302,9 @@ Int8Inference::Int8Inference(const QuantizedNetwork& net) : scales_(net.scales) 
     for (int f = 0; f < kConv1OutFreq; ++f) conv1_rows_.push_back(t * kBins + f);
   }
   for (int t = 0; t < kConv2OutTime; ++t) {
-    for (int f = 0; f < kConv2OutFreq; ++f) conv2_rows_.push_back((t * kPooledFreq + f) * kConv1Maps);
+    for (int f = 0; f < kConv2OutFreq; ++f) {
+      conv2_rows_.push_back((t * kPooledFreq + f) * kConv1Maps);
+    }
   }
   set_kernel(best_int8_kernel());
 }
@@ -317,8 +321,9 @@ void Int8Inference::set_kernel(Int8Kernel kernel) {
     conv1_bytes_ = detail::pack_weights_s8(conv1_.weights.data(), conv1_.out, conv1_.in);
     conv1_shifted_bias_ = conv1_.bias;
     for (std::size_t o = 0; o < conv1_shifted_bias_.size(); ++o) {
+      const std::int16_t* w = conv1_.weights.data() + o * static_cast<std::size_t>(conv1_.in);
       std::int32_t sum = 0;
-      for (int k = 0; k < conv1_.in; ++k) sum += conv1_.weights[o * static_cast<std::size_t>(conv1_.in) + static_cast<std::size_t>(k)];
+      for (int k = 0; k < conv1_.in; ++k) sum += w[k];
       conv1_shifted_bias_[o] -= 128 * sum;
     }
     conv2_bytes_ = detail::pack_weights_s8(conv2_.weights.data(), conv2_.out, conv2_.in);
@@ -348,7 +353,9 @@ void Int8Inference::run(std::span<const float> input, std::span<float> probabili
   // Input -> int8, straight into conv1's columns (im2col on the quantised frame).
   std::int16_t qin[kInputSize];
   const float inv_in = 1.0f / scales_.input;
-  for (int i = 0; i < kInputSize; ++i) qin[i] = quantize_value(input[static_cast<std::size_t>(i)], inv_in, false);
+  for (int i = 0; i < kInputSize; ++i) {
+    qin[i] = quantize_value(input[static_cast<std::size_t>(i)], inv_in, false);
+  }
   detail::im2col_conv1(qin, cols1_.data());
   constexpr int p1 = kConv1OutTime * kConv1OutFreq;
   gemm(cols1_.data(), p1, conv1_, acc_.data());
@@ -363,7 +370,8 @@ void Int8Inference::run(std::span<const float> input, std::span<float> probabili
         const std::int32_t m =
             std::max(r0[ch], std::max(r0[ch + kConv1Maps], r0[ch + 2 * kConv1Maps]));
         const std::size_t c = static_cast<std::size_t>(ch);
-        out[ch] = quantize_value(static_cast<float>(m + conv1_.bias[c]) * conv1_.to_real[c], inv1, true);
+        out[ch] = quantize_value(static_cast<float>(m + conv1_.bias[c]) * conv1_.to_real[c], inv1,
+                                 true);
       }
     }
   }
@@ -423,8 +431,9 @@ void Int8Inference::run_avx512(std::span<const float> input, std::span<float> pr
   const std::int32_t first_row = 0;
   auto fc = [&](const Layer& layer, const std::int16_t* in, std::int16_t* out, float out_scale,
                 bool relu) {
-    detail::gemm_avx512_packed(detail::RowsView<std::int16_t>{in, &first_row, 1, layer.in, layer.in},
-                               layer.packed, acc_.data());
+    detail::gemm_avx512_packed(
+        detail::RowsView<std::int16_t>{in, &first_row, 1, layer.in, layer.in}, layer.packed,
+        acc_.data());
     detail::requantize_avx512(acc_.data(), 1, 1, layer.out, layer.bias.data(),
                               layer.to_real.data(), 1.0f / out_scale, relu, out);
   };

@@ -195,8 +195,9 @@ class Int8Inference {
 };
 
 // The int8 x int8 -> int32 matrix kernels of Int8Inference, one per Int8Kernel:
-// c[m*cols + j] = sum_k a[m*depth + k] * w[j*depth + k], for m < rows, j < cols. All take any sizes (the AVX2 kernel does what is left over from blocks of 4 columns and
-// 16 inputs in scalar code).
+// c[m*cols + j] = sum_k a[m*depth + k] * w[j*depth + k], for m < rows, j < cols. All take
+// any sizes (the AVX2 kernel does what is left over from blocks of 4 columns and 16 inputs
+// in scalar code).
 void gemm_s16_portable(const std::int16_t* a, int rows, const std::int16_t* w, int cols,
                        int depth, std::int32_t* c);
 bool gemm_s16_avx2_available();
