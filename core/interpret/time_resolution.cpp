@@ -15,7 +15,6 @@ namespace {
 using std::chrono::hours;
 using std::chrono::milliseconds;
 using std::chrono::minutes;
-using SysMs = UtcMs;
 
 constexpr int kDefaultHour = 9;
 
@@ -55,32 +54,32 @@ class Resolver {
   }
 
   // The instant of `hour:minute` on `day`, local; gaps resolve to the transition.
-  SysMs instant(date::local_days day, int hour, int minute) const {
+  UtcMs instant(date::local_days day, int hour, int minute) const {
     LocalMs local{day + hours(hour) + minutes(minute)};
     return local_to_utc(*zone_, local);
   }
 
   // The first instant after now at hour:minute on one of the days today+first..today+last
   // whose weekday is in `mask` (0 = any).
-  std::optional<SysMs> first_after_now(int first, int last, unsigned mask, int hour,
+  std::optional<UtcMs> first_after_now(int first, int last, unsigned mask, int hour,
                                        int minute) const {
     for (int offset = first; offset <= last; ++offset) {
       date::local_days day = today_ + date::days(offset);
       unsigned weekday = date::weekday(day).c_encoding();
       if (mask != 0 && (mask & (1U << weekday)) == 0) continue;
-      SysMs at = instant(day, hour, minute);
+      UtcMs at = instant(day, hour, minute);
       if (at > now_) return at;
     }
     return std::nullopt;
   }
 
-  LocalMs local(SysMs at) const { return utc_to_local(*zone_, at); }
-  SysMs now() const { return now_; }
+  LocalMs local(UtcMs at) const { return utc_to_local(*zone_, at); }
+  UtcMs now() const { return now_; }
   const date::time_zone* zone() const { return zone_; }
 
  private:
   const date::time_zone* zone_;
-  SysMs now_;
+  UtcMs now_;
   date::local_days today_;
 };
 
@@ -100,7 +99,7 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
                                                   const std::string& time_zone) {
   Resolver resolver(now_utc_ms, time_zone);
   nlohmann::json recurrence = {{"kind", "once"}};
-  std::optional<SysMs> at;
+  std::optional<UtcMs> at;
 
   if (phrase.in_seconds) {
     at = resolver.now() + std::chrono::seconds(*phrase.in_seconds);
