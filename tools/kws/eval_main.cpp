@@ -17,12 +17,14 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <map>
 #include <random>
 
 #include "devices/audio/sound_buffer.h"
 #include "devices/audio/sound_file.h"
 #include "perception/kws/augment.h"
 #include "perception/kws/dataset.h"
+#include "perception/kws/features.h"
 #include "perception/kws/keyword_spotter.h"
 #include "perception/kws/neural_wake_word.h"
 #include "perception/pocketsphinx_wake_word.h"
@@ -60,9 +62,17 @@ const std::vector<std::string>& eval_sentences() {
   return s;
 }
 
+// What was said where, for --details: the keyword or a sentence, in which voice.
+struct Segment {
+  std::int64_t begin, end;  // samples
+  std::string text, voice;
+};
+
 struct Track {
   std::vector<float> audio;
   std::vector<std::pair<std::int64_t, std::int64_t>> keywords;  // [begin, end) samples
+  std::vector<std::string> keyword_voices;                       // parallel to keywords
+  std::vector<Segment> segments;                                 // in time order
 };
 
 float db(float v) { return std::pow(10.0f, v / 20.0f); }
@@ -107,16 +117,22 @@ Track build_track(double minutes, int keywords, const std::string& keyword,
       if (pos + kw.size() >= total) break;
       mix_in(t.audio, pos, kw, level);
       t.keywords.emplace_back(pos, pos + kw.size());
+      t.keyword_voices.push_back(voice);
+      t.segments.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + kw.size()), keyword, voice});
       pos += kw.size() + static_cast<std::size_t>(2400 + 4000 * u(rng));
       ++placed;
       if (u(rng) < 0.6f) {  // "Marvin, <command>"
-        const std::vector<float> cmd = kws::synthesize(sents[pick_sent(rng)], voice, rate, pitch);
+        const std::string& text = sents[pick_sent(rng)];
+        const std::vector<float> cmd = kws::synthesize(text, voice, rate, pitch);
         mix_in(t.audio, pos, cmd, level);
+        t.segments.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + cmd.size()), text, voice});
         pos += cmd.size();
       }
     } else {
-      const std::vector<float> s = kws::synthesize(sents[pick_sent(rng)], voice, rate, pitch);
+      const std::string& text = sents[pick_sent(rng)];
+      const std::vector<float> s = kws::synthesize(text, voice, rate, pitch);
       mix_in(t.audio, pos, s, level);
+      t.segments.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + s.size()), text, voice});
       pos += s.size();
     }
     pos += static_cast<std::size_t>(4800 + 40000 * u(rng));
@@ -125,27 +141,36 @@ Track build_track(double minutes, int keywords, const std::string& keyword,
   return t;
 }
 
+// A detection hits a keyword when it ends between the keyword's start and 1.25 s after its end.
+constexpr std::int64_t kHitSlackSamples = 20000;
+
 struct Score {
   int hits = 0, misses = 0, false_accepts = 0;
+  std::vector<bool> found;                  // per keyword of the track
+  std::vector<std::int64_t> false_accept_ends;
   double miss_rate() const { return hits + misses > 0 ? static_cast<double>(misses) / (hits + misses) : 0.0; }
 };
 
-Score score(const std::vector<std::int64_t>& detection_ends, const Track& track) {
+Score score(const std::vector<std::int64_t>& ends, const Track& track) {
   Score s;
   std::vector<bool> found(track.keywords.size(), false);
-  for (std::int64_t e : detection_ends) {
+  for (std::int64_t e : ends) {
     bool matched = false;
     for (std::size_t k = 0; k < track.keywords.size(); ++k) {
       const auto [b, end] = track.keywords[k];
-      if (e >= b && e <= end + 20000 && !found[k]) {
+      if (e >= b && e <= end + kHitSlackSamples && !found[k]) {
         found[k] = true;
         matched = true;
         break;
       }
     }
-    if (!matched) ++s.false_accepts;
+    if (!matched) {
+      ++s.false_accepts;
+      s.false_accept_ends.push_back(e);
+    }
   }
   for (bool f : found) (f ? s.hits : s.misses)++;
+  s.found = std::move(found);
   return s;
 }
 
@@ -160,6 +185,72 @@ struct Trace {
   std::vector<std::int64_t> end_frames;
 };
 
+// Sample just past the last one of the window that ended at `end_frame` (exclusive).
+std::int64_t end_sample(std::int64_t end_frame) { return (end_frame - 1) * 160 + 400; }
+
+// Replays the decision (smoothing, threshold, refractory period) over the posterior trace.
+std::vector<std::int64_t> detection_ends(const Trace& trace, int smoothing, float threshold, int refractory) {
+  kws::DetectionDecider decider(smoothing, threshold, refractory);
+  std::vector<std::int64_t> ends;
+  for (std::size_t w = 0; w < trace.posteriors.size(); ++w) {
+    if (decider.push(trace.posteriors[w])) ends.push_back(end_sample(trace.end_frames[w]));
+  }
+  return ends;
+}
+
+std::string base_of(const std::string& voice) { return voice.substr(0, voice.find('+')); }
+std::string variant_of(const std::string& voice) {
+  const std::size_t plus = voice.find('+');
+  return plus == std::string::npos ? "(none)" : voice.substr(plus + 1);
+}
+
+// --details: where one operating point goes wrong. Miss rate per voice base and variant, the
+// distribution of each keyword's highest posterior, and every false accept with what was
+// being said in the window that fired.
+void print_details(const Score& s, const Track& track, const Trace& trace, float threshold,
+                   int smoothing) {
+  std::printf("\ndetails at threshold %.3f, smoothing %d:\n", static_cast<double>(threshold), smoothing);
+  std::map<std::string, std::pair<int, int>> by_base, by_variant;  // misses, keywords
+  for (std::size_t k = 0; k < track.keywords.size(); ++k) {
+    for (auto* m : {&by_base, &by_variant}) {
+      auto& [misses, total] =
+          (*m)[m == &by_base ? base_of(track.keyword_voices[k]) : variant_of(track.keyword_voices[k])];
+      misses += s.found[k] ? 0 : 1;
+      ++total;
+    }
+  }
+  for (const auto* m : {&by_base, &by_variant}) {
+    std::printf("  miss rate by voice %s:\n", m == &by_base ? "base" : "variant");
+    for (const auto& [name, mt] : *m) {
+      std::printf("    %-18s %3d / %3d  %6.2f%%\n", name.c_str(), mt.first, mt.second,
+                  100.0 * mt.first / std::max(1, mt.second));
+    }
+  }
+  // Highest raw posterior of a window ending inside each keyword's hit range.
+  const float edges[] = {0.5f, 0.9f, 0.97f, 0.99f};
+  int buckets[5] = {};
+  for (const auto& [b, e] : track.keywords) {
+    float peak = 0.0f;
+    for (std::size_t w = 0; w < trace.posteriors.size(); ++w) {
+      const std::int64_t end = end_sample(trace.end_frames[w]);
+      if (end >= b && end <= e + kHitSlackSamples) peak = std::max(peak, trace.posteriors[w]);
+    }
+    int i = 0;
+    while (i < 4 && peak >= edges[i]) ++i;
+    ++buckets[i];
+  }
+  std::printf("  keywords by highest window posterior: <0.5 %d, 0.5-0.9 %d, 0.9-0.97 %d, 0.97-0.99 %d, >=0.99 %d\n",
+              buckets[0], buckets[1], buckets[2], buckets[3], buckets[4]);
+  std::printf("  false accepts (time, then what was said in the 1 s before):\n");
+  for (std::int64_t e : s.false_accept_ends) {
+    std::string said;
+    for (const Segment& g : track.segments) {
+      if (g.end > e - kws::kWindowSamples && g.begin < e) said += " [" + g.voice + "] \"" + g.text + "\"";
+    }
+    std::printf("    %7.1f s%s\n", static_cast<double>(e) / 16000.0, said.empty() ? " (noise only)" : said.c_str());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -173,6 +264,7 @@ int main(int argc, char** argv) {
   bool no_pocketsphinx = false;
   std::vector<int> smoothings;
   float refractory_s = -1.0f;
+  float details_threshold = -1.0f;
   app.add_option("--model", model_path, "int8 model")->capture_default_str();
   app.add_option("--float-model", float_model_path, "float model, for float vs int8 accuracy");
   app.add_option("--seed", seed)->capture_default_str();
@@ -188,6 +280,9 @@ int main(int argc, char** argv) {
   app.add_option("--refractory", refractory_s, "override the model's refractory period (s)");
   app.add_option("--threads", threads)->capture_default_str();
   app.add_option("--save-track", save_track, "write the streaming track to this WAV");
+  app.add_option("--details", details_threshold,
+                 "at this threshold (first --smoothing): miss rate per voice, keyword posterior "
+                 "peaks, and each false accept with what was said");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -284,18 +379,17 @@ int main(int argc, char** argv) {
     std::vector<Row> neural_rows, ps_rows;
     for (int sm : smoothings) {
       for (float th : thresholds) {
-        kws::DetectionDecider decider(sm, th, refractory);
-        std::vector<std::int64_t> ends;
-        for (std::size_t w = 0; w < trace.posteriors.size(); ++w) {
-          if (decider.push(trace.posteriors[w])) ends.push_back((trace.end_frames[w] - 1) * 160 + 400);
-        }
-        const Score s = score(ends, track);
+        const Score s = score(detection_ends(trace, sm, th, refractory), track);
         char name[64];
         std::snprintf(name, sizeof name, "neural int8 smoothing %d", sm);
         std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", name, static_cast<double>(th),
                     100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
         neural_rows.push_back({s.miss_rate(), s.false_accepts / hours, th, sm});
       }
+    }
+    if (details_threshold >= 0.0f) {
+      const Score s = score(detection_ends(trace, smoothings.front(), details_threshold, refractory), track);
+      print_details(s, track, trace, details_threshold, smoothings.front());
     }
     for (std::size_t i = 0; i < ps_runs.size(); ++i) {
       const Score s = score(ps_runs[i].get(), track);

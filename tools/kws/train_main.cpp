@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <random>
@@ -19,7 +20,10 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "perception/kws/dataset.h"
+#include "perception/kws/generated_voices.h"
 #include "perception/kws/model_file.h"
 #include "perception/kws/trainer.h"
 
@@ -66,6 +70,12 @@ int main(int argc, char** argv) {
   app.add_option("--batch", topt.batch_size)->capture_default_str();
   app.add_option("--lr", topt.learning_rate, "Adam learning rate (cosine-decayed to 5%)")->capture_default_str();
   app.add_option("--weight-decay", topt.weight_decay)->capture_default_str();
+  app.add_option("--freq-mask", topt.freq_mask_bins,
+                 "SpecAugment: each example, every epoch, loses a band of up to this many mel bins")
+      ->capture_default_str();
+  app.add_option("--time-mask", topt.time_mask_frames,
+                 "SpecAugment: ... and a span of up to this many input frames (30 ms each)")
+      ->capture_default_str();
   app.add_option("--threads", topt.threads)->capture_default_str();
   app.add_option("--threshold", threshold, "detection threshold stored in the model")->capture_default_str();
   app.add_option("--smoothing", smoothing, "posterior smoothing windows stored in the model")->capture_default_str();
@@ -86,6 +96,14 @@ int main(int argc, char** argv) {
   app.add_option("--mine-keep", mine_keep,
                  "fraction of the other mined windows that join it too")->capture_default_str();
   app.add_option("--mine-copies", mine_copies, "copies of each hard mined window")->capture_default_str();
+  int generated_voices = 0;
+  std::string voices_dir;
+  app.add_option("--generated-voices", generated_voices,
+                 "also train (and mine) on this many random espeak-ng variants (formants, pitch, "
+                 "voicing) of each training accent; none of them is a held-out voice")->capture_default_str();
+  app.add_option("--voices-dir", voices_dir,
+                 "with --generated-voices: where the private espeak-ng data goes (must not exist; "
+                 "default: a temporary directory, removed at exit)");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -97,6 +115,28 @@ int main(int argc, char** argv) {
         mine_keep > 1.0f || mine_copies < 1) {
       throw std::runtime_error("--mine-minutes must be >= 0, --mine-floor in (0, 1], --mine-keep in "
                                "[0, 1], --mine-copies >= 1");
+    }
+    // Removes the temporary espeak-ng data directory however main() ends.
+    struct RemoveAtExit {
+      std::filesystem::path path;
+      ~RemoveAtExit() {
+        std::error_code ignored;
+        if (!path.empty()) std::filesystem::remove_all(path, ignored);
+      }
+    } temporary_voices;
+    if (generated_voices > 0) {
+      if (!data_dir.empty()) throw std::runtime_error("--generated-voices is for synthesised data, not --data");
+      std::filesystem::path dir = voices_dir;
+      if (dir.empty()) {
+        dir = std::filesystem::temp_directory_path() / ("marvin-kws-voices-" + std::to_string(::getpid()));
+        temporary_voices.path = dir;
+      }
+      const std::vector<std::string> variants = kws::install_generated_variants(generated_voices, dopt.seed, dir);
+      kws::use_espeak_data(dir);
+      dopt.voices = kws::training_voices();
+      for (const std::string& v : kws::voices_with_variants(kws::training_accents(), variants)) dopt.voices.push_back(v);
+      std::printf("voices: %zu (%d generated variants x %zu accents added)\n", dopt.voices.size(), generated_voices,
+                  kws::training_accents().size());
     }
     const auto start = Clock::now();
     dopt.noise_folder = noise_dir;

@@ -100,6 +100,8 @@ std::vector<std::string> training_voices() {
   return v;
 }
 
+std::vector<std::string> training_accents() { return {std::begin(kTrainBases), std::end(kTrainBases)}; }
+
 std::vector<std::string> heldout_voices() {
   std::vector<std::string> v;
   for (const char* b : kHeldoutBases) {

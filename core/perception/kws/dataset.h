@@ -45,6 +45,8 @@ struct DatasetOptions {
 
 // espeak-ng voice names ("base+variant"); the two lists share no variant and no voice.
 std::vector<std::string> training_voices();
+// The language/accent voices training_voices() combines with its variants ("en", "en-us", ...).
+std::vector<std::string> training_accents();
 std::vector<std::string> heldout_voices();
 // Words that are not the keyword (Speech Commands' words and some that sound like "marvin"),
 // and sentences without the keyword.

@@ -46,18 +46,51 @@ void add_colsum(std::vector<float>& bias_grad, const RowMatrix& d) {
       d.colwise().sum();
 }
 
+// splitmix64: a well-mixed 64-bit value from a seed and an index.
+std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t index) {
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ull * (index + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+}  // namespace
+
+void spec_mask(std::span<float> input, int freq_mask_bins, int time_mask_frames, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  auto draw = [&rng](int max_width, int extent, auto&& clear) {
+    if (max_width <= 0) return;
+    const int width = std::uniform_int_distribution<int>(0, std::min(max_width, extent))(rng);
+    const int first = std::uniform_int_distribution<int>(0, extent - width)(rng);
+    for (int k = first; k < first + width; ++k) clear(k);
+  };
+  draw(freq_mask_bins, kBins, [&](int bin) {
+    for (int t = 0; t < kInputFrames; ++t) input[static_cast<std::size_t>(t * kBins + bin)] = 0.0f;
+  });
+  draw(time_mask_frames, kInputFrames, [&](int t) {
+    std::fill_n(input.begin() + t * kBins, kBins, 0.0f);
+  });
+}
+
+namespace {
+
+bool masking(const TrainOptions& o) { return o.freq_mask_bins > 0 || o.time_mask_frames > 0; }
+
 }  // namespace
 
 // Scratch for one share of a batch.
 struct Trainer::Worker {
   RowMatrix x1, z1, a1, x2, z2, a2, l, h, o;
+  std::vector<float> masked;  // one example's input after spec_mask()
   std::vector<int> argmax;  // per a1 element: the z1 row the max came from
   FloatNetwork grad;
   double loss = 0.0;
   std::size_t correct = 0;
 
+  // `first` is the position of idx[0] in the batch: with masking on, example k of the batch
+  // gets the mask of mix_seed(mask_seed, k) however the batch is split between workers.
   void run(const FloatNetwork& net, const TrainingSet& data, std::span<const std::size_t> idx,
-           float inv_total) {
+           float inv_total, const TrainOptions& options, std::uint64_t mask_seed, std::size_t first) {
     const int b = static_cast<int>(idx.size());
     loss = 0.0;
     correct = 0;
@@ -65,8 +98,15 @@ struct Trainer::Worker {
     if (b == 0) return;
     x1.resize(b * kP1, kConv1In);
     for (int i = 0; i < b; ++i) {
-      detail::im2col_conv1(data.input(idx[static_cast<std::size_t>(i)]).data(),
-                           x1.data() + static_cast<std::ptrdiff_t>(i) * kP1 * kConv1In);
+      const std::span<const float> input = data.input(idx[static_cast<std::size_t>(i)]);
+      const float* source = input.data();
+      if (masking(options)) {
+        masked.assign(input.begin(), input.end());
+        spec_mask(masked, options.freq_mask_bins, options.time_mask_frames,
+                  mix_seed(mask_seed, first + static_cast<std::size_t>(i)));
+        source = masked.data();
+      }
+      detail::im2col_conv1(source, x1.data() + static_cast<std::ptrdiff_t>(i) * kP1 * kConv1In);
     }
     z1.noalias() = x1 * weights(net.conv1).transpose();
     a1.resize(b * kA1, kConv1Maps);
@@ -190,10 +230,10 @@ double Trainer::loss_and_gradient(const TrainingSet& data, std::span<const std::
     const std::size_t begin = std::min(batch.size(), w * per);
     const std::size_t end = std::min(batch.size(), begin + per);
     threads.emplace_back([&, w, begin, end] {
-      workers_[w]->run(net_, data, batch.subspan(begin, end - begin), inv_total);
+      workers_[w]->run(net_, data, batch.subspan(begin, end - begin), inv_total, options_, mask_seed_, begin);
     });
   }
-  workers_[0]->run(net_, data, batch.subspan(0, std::min(per, batch.size())), inv_total);
+  workers_[0]->run(net_, data, batch.subspan(0, std::min(per, batch.size())), inv_total, options_, mask_seed_, 0);
   for (std::thread& t : threads) t.join();
   gradient = workers_[0]->grad;
   double loss = workers_[0]->loss;
@@ -250,6 +290,7 @@ EpochStats Trainer::train_epoch(
   for (std::size_t start = 0; start < order.size(); start += bs) {
     const std::size_t n = std::min(bs, order.size() - start);
     std::size_t correct = 0;
+    if (masking(options_)) mask_seed_ = rng();  // drawn only when on: runs without stay as before
     const double loss = loss_and_gradient(data, std::span<const std::size_t>(order).subspan(start, n),
                                           gradient, &correct);
     adam_step(gradient);

@@ -35,7 +35,17 @@ struct TrainOptions {
   float epsilon = 1e-8f;
   float weight_decay = 0.0f;  // L2, added to the gradient
   int threads = 2;
+  // SpecAugment-style masking (Park et al. 2019), drawn anew for every example in every
+  // epoch: one band of 0..freq_mask_bins mel bins and one span of 0..time_mask_frames input
+  // frames are set to 0, the normalised mean, so the network cannot lean on a single band or
+  // moment. 0 and 0 = off (models/README.md has what it did for espeak-ng voices).
+  int freq_mask_bins = 0;
+  int time_mask_frames = 0;
 };
+
+// The mask train_epoch() applies to one normalised input (kInputSize values, frame-major):
+// a band and a span as above, chosen by `seed` alone.
+void spec_mask(std::span<float> input, int freq_mask_bins, int time_mask_frames, std::uint64_t seed);
 
 struct EpochStats {
   double loss = 0.0;      // mean cross-entropy over the epoch
@@ -67,6 +77,7 @@ class Trainer {
   TrainOptions options_;
   FloatNetwork m_, v_;
   std::int64_t step_ = 0;
+  std::uint64_t mask_seed_ = 0;  // of the current batch, when masking is on
   std::vector<std::unique_ptr<Worker>> workers_;
 };
 

@@ -1,0 +1,43 @@
+// Random espeak-ng voice variants, for training on more speakers than espeak-ng ships.
+//
+// A variant is a small text file (voices/!v/<name> in espeak-ng's data directory) that sets
+// the pitch, the nine formants' frequency, height and width, voicing, flutter and roughness.
+// espeak-ng reads variants only from its data directory, so install_generated_variants()
+// builds a private one: links to every entry of the system's directory, plus the generated
+// variants; use_espeak_data() points the process at it. Voices are then named
+// "<language>+<variant>" like the shipped ones ("en-us+mkws3").
+// With more than about 20 variants espeak-ng warns on stderr that its voice list is full
+// (it lists at most 349 voices). Harmless: a variant named in a voice loads from its file.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace marvin::perception::kws {
+
+// The text of one random variant called `name`. Ranges span the variants espeak-ng ships
+// (pitch base 70..220 Hz; formant frequencies scaled 0.8..1.25, one scale for the whole
+// vocal tract times a per-formant jitter of +-10%; heights 60..150%, the top three
+// sometimes nearly off; voicing 30..150%).
+std::string random_variant_text(const std::string& name, std::mt19937_64& rng);
+
+// Writes `count` variants named mkws0, mkws1, ... (from `seed`) into a private espeak-ng
+// data directory `dir`/espeak-ng-data (`dir` is created and must not exist yet). Returns
+// the variant names. Throws std::runtime_error naming `dir` when it exists or cannot be
+// written, or when the system's data cannot be found.
+std::vector<std::string> install_generated_variants(int count, std::uint64_t seed,
+                                                    const std::filesystem::path& dir);
+
+// Makes espeak-ng in this process read its data from `dir` (as installed above) by setting
+// ESPEAK_DATA_PATH. Has an effect only before the process first synthesises speech:
+// espeak-ng reads its data path once.
+void use_espeak_data(const std::filesystem::path& dir);
+
+// Every `bases` voice with every variant ("en+mkws0", ...).
+std::vector<std::string> voices_with_variants(const std::vector<std::string>& bases,
+                                              const std::vector<std::string>& variants);
+
+}  // namespace marvin::perception::kws
