@@ -4,12 +4,13 @@
 #include <vector>
 
 #include "data/recurrence.h"
+#include "test_support.h"
 
 using namespace marvin::data;
 
 namespace {
 
-constexpr std::int64_t kMinute = 60'000;
+using marvin::data::test::kMinute;
 constexpr std::int64_t kHour = 60 * kMinute;
 
 Reminder make(const char* local_first, const char* zone, Recurrence rec = {}) {

@@ -13,7 +13,7 @@ using marvin::data::test::TempDir;
 
 namespace {
 
-constexpr std::int64_t kMinute = 60'000;
+using marvin::data::test::kMinute;
 constexpr const char* kZone = "Europe/Berlin";
 
 std::int64_t local(const char* text) { return local_to_utc_ms(text, kZone); }

@@ -10,6 +10,10 @@
 
 namespace marvin::data::test {
 
+// One minute in the store's UTC milliseconds (the suites compile as one unity file, so they
+// share this instead of each defining it).
+inline constexpr std::int64_t kMinute = 60'000;
+
 // A directory under the system temp dir, removed with everything in it at scope exit.
 class TempDir {
  public:

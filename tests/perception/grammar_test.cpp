@@ -4,14 +4,13 @@
 #include <vector>
 
 #include "perception/command_grammar.h"
+#include "support/text.h"
 
 using namespace marvin::perception;
 
 namespace {
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using marvin::test_support::contains;
 
 GrammarOptions bare() {
   GrammarOptions options;

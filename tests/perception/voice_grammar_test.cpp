@@ -8,6 +8,7 @@
 
 #include "app/voice_grammar.h"
 #include "skills/in_memory_personal_data.h"
+#include "support/text.h"
 
 using namespace marvin;
 using app::SkillPhrases;
@@ -37,9 +38,7 @@ SkillPhrases phrases() {
   return p;
 }
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using marvin::test_support::contains;
 
 }  // namespace
 

@@ -10,17 +10,15 @@
 
 #include "fake_robot.h"
 #include "scripting/lua_skill.h"
+#include "support/text.h"
 #include "temp_skill.h"
 
 namespace marvin::scripting {
 namespace {
 
+using test_support::contains;
 using testing::FakeRobot;
 using testing::TempDir;
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 Limits test_limits() {
   Limits limits;

@@ -8,11 +8,13 @@
 #include <vector>
 
 #include "scripting/sandbox.h"
+#include "support/text.h"
 #include "temp_skill.h"
 
 namespace marvin::scripting {
 namespace {
 
+using test_support::contains;
 using testing::TempDir;
 
 Limits small_limits() {
@@ -43,10 +45,6 @@ struct Fixture {
     return output.front();
   }
 };
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 TEST_CASE("only the allowlisted globals exist") {
   Fixture f;
