@@ -62,7 +62,7 @@ const std::vector<std::string>& eval_sentences() {
   return s;
 }
 
-// What was said where, for --details: the keyword or a sentence, in which voice.
+// What was said where: the keyword or a sentence, in which voice.
 struct Segment {
   std::int64_t begin, end;  // samples
   std::string text, voice;
@@ -70,9 +70,8 @@ struct Segment {
 
 struct Track {
   std::vector<float> audio;
-  std::vector<std::pair<std::int64_t, std::int64_t>> keywords;  // [begin, end) samples
-  std::vector<std::string> keyword_voices;                       // parallel to keywords
-  std::vector<Segment> segments;                                 // in time order
+  std::vector<Segment> keywords;   // in time order
+  std::vector<Segment> sentences;  // the other speech, in time order
 };
 
 float db(float v) { return std::pow(10.0f, v / 20.0f); }
@@ -116,23 +115,21 @@ Track build_track(double minutes, int keywords, const std::string& keyword,
       const std::vector<float> kw = kws::synthesize(u(rng) < 0.5f ? cap : keyword, voice, rate, pitch);
       if (pos + kw.size() >= total) break;
       mix_in(t.audio, pos, kw, level);
-      t.keywords.emplace_back(pos, pos + kw.size());
-      t.keyword_voices.push_back(voice);
-      t.segments.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + kw.size()), keyword, voice});
+      t.keywords.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + kw.size()), keyword, voice});
       pos += kw.size() + static_cast<std::size_t>(2400 + 4000 * u(rng));
       ++placed;
       if (u(rng) < 0.6f) {  // "Marvin, <command>"
         const std::string& text = sents[pick_sent(rng)];
         const std::vector<float> cmd = kws::synthesize(text, voice, rate, pitch);
         mix_in(t.audio, pos, cmd, level);
-        t.segments.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + cmd.size()), text, voice});
+        t.sentences.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + cmd.size()), text, voice});
         pos += cmd.size();
       }
     } else {
       const std::string& text = sents[pick_sent(rng)];
       const std::vector<float> s = kws::synthesize(text, voice, rate, pitch);
       mix_in(t.audio, pos, s, level);
-      t.segments.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + s.size()), text, voice});
+      t.sentences.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + s.size()), text, voice});
       pos += s.size();
     }
     pos += static_cast<std::size_t>(4800 + 40000 * u(rng));
@@ -141,8 +138,11 @@ Track build_track(double minutes, int keywords, const std::string& keyword,
   return t;
 }
 
-// A detection hits a keyword when it ends between the keyword's start and 1.25 s after its end.
-constexpr std::int64_t kHitSlackSamples = 20000;
+// Whether a detection ending at sample `end` is one for `keyword`: it ends between the
+// keyword's start and 1.25 s after its end.
+bool detects(const Segment& keyword, std::int64_t end) {
+  return end >= keyword.begin && end <= keyword.end + 20000;
+}
 
 struct Score {
   int hits = 0, misses = 0, false_accepts = 0;
@@ -157,8 +157,7 @@ Score score(const std::vector<std::int64_t>& ends, const Track& track) {
   for (std::int64_t e : ends) {
     bool matched = false;
     for (std::size_t k = 0; k < track.keywords.size(); ++k) {
-      const auto [b, end] = track.keywords[k];
-      if (e >= b && e <= end + kHitSlackSamples && !found[k]) {
+      if (!found[k] && detects(track.keywords[k], e)) {
         found[k] = true;
         matched = true;
         break;
@@ -214,7 +213,7 @@ void print_details(const Score& s, const Track& track, const Trace& trace, float
   for (std::size_t k = 0; k < track.keywords.size(); ++k) {
     for (auto* m : {&by_base, &by_variant}) {
       auto& [misses, total] =
-          (*m)[m == &by_base ? base_of(track.keyword_voices[k]) : variant_of(track.keyword_voices[k])];
+          (*m)[m == &by_base ? base_of(track.keywords[k].voice) : variant_of(track.keywords[k].voice)];
       misses += s.found[k] ? 0 : 1;
       ++total;
     }
@@ -229,11 +228,10 @@ void print_details(const Score& s, const Track& track, const Trace& trace, float
   // Highest raw posterior of a window ending inside each keyword's hit range.
   const float edges[] = {0.5f, 0.9f, 0.97f, 0.99f};
   int buckets[5] = {};
-  for (const auto& [b, e] : track.keywords) {
+  for (const Segment& kw : track.keywords) {
     float peak = 0.0f;
     for (std::size_t w = 0; w < trace.posteriors.size(); ++w) {
-      const std::int64_t end = end_sample(trace.end_frames[w]);
-      if (end >= b && end <= e + kHitSlackSamples) peak = std::max(peak, trace.posteriors[w]);
+      if (detects(kw, end_sample(trace.end_frames[w]))) peak = std::max(peak, trace.posteriors[w]);
     }
     int i = 0;
     while (i < 4 && peak >= edges[i]) ++i;
@@ -244,8 +242,10 @@ void print_details(const Score& s, const Track& track, const Trace& trace, float
   std::printf("  false accepts (time, then what was said in the 1 s before):\n");
   for (std::int64_t e : s.false_accept_ends) {
     std::string said;
-    for (const Segment& g : track.segments) {
-      if (g.end > e - kws::kWindowSamples && g.begin < e) said += " [" + g.voice + "] \"" + g.text + "\"";
+    for (const auto* list : {&track.keywords, &track.sentences}) {
+      for (const Segment& g : *list) {
+        if (g.end > e - kws::kWindowSamples && g.begin < e) said += " [" + g.voice + "] \"" + g.text + "\"";
+      }
     }
     std::printf("    %7.1f s%s\n", static_cast<double>(e) / 16000.0, said.empty() ? " (noise only)" : said.c_str());
   }

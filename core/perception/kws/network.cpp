@@ -291,9 +291,7 @@ Int8Inference::Int8Inference(const QuantizedNetwork& net) : scales_(net.scales) 
       l.bias[o] = static_cast<std::int32_t>(std::clamp(b, -2.0e9, 2.0e9));
     }
   }
-  cols1_.resize(static_cast<std::size_t>(kConv1OutTime * kConv1OutFreq * kConv1In));
   a1_.resize(static_cast<std::size_t>(kConv1OutTime * kPooledFreq * kConv1Maps));
-  cols2_.resize(static_cast<std::size_t>(kConv2OutTime * kConv2OutFreq * kConv2In));
   a2_.resize(kFlat);
   l_.resize(kLinear);
   h_.resize(kDense);
@@ -328,6 +326,12 @@ void Int8Inference::set_kernel(Int8Kernel kernel) {
     }
     conv2_bytes_ = detail::pack_weights_s8(conv2_.weights.data(), conv2_.out, conv2_.in);
     a1_bytes_.resize(a1_.size());
+  }
+  if (kernel != Int8Kernel::avx512_vnni && cols1_.empty()) {
+    // The AVX2 and portable kernels read im2col copies (about 300 KB); the AVX-512 kernel
+    // reads the frames in place, so a spotter on such a CPU never allocates them.
+    cols1_.resize(static_cast<std::size_t>(kConv1OutTime * kConv1OutFreq * kConv1In));
+    cols2_.resize(static_cast<std::size_t>(kConv2OutTime * kConv2OutFreq * kConv2In));
   }
   kernel_ = kernel;
 }
