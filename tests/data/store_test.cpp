@@ -11,9 +11,9 @@
 #include "test_support.h"
 
 using namespace marvin::data;
-using marvin::data::test::read_bytes;
+using marvin::test_support::read_text;
 using marvin::data::test::TempDir;
-using marvin::data::test::write_bytes;
+using marvin::test_support::write_text;
 
 namespace {
 
@@ -143,18 +143,18 @@ TEST_CASE("a database from a newer Marvin is refused and left unchanged") {
   TempDir dir;
   { SqliteStore store(at(dir.db())); store.add_contact(anna()); }
   { Raw raw(dir.db()); raw.exec("PRAGMA user_version = 99"); }
-  const std::string before = read_bytes(dir.db());
+  const std::string before = read_text(dir.db());
   CHECK_THROWS_WITH(SqliteStore(at(dir.db())),
                     doctest::Contains("has schema version 99, newer than this Marvin understands (3)"));
   CHECK_THROWS_WITH(SqliteStore(at(dir.db())), doctest::Contains(dir.db().string().c_str()));
-  CHECK(read_bytes(dir.db()) == before);
+  CHECK(read_text(dir.db()) == before);
 }
 
 TEST_CASE("a file that is not a database is refused, named, and left byte for byte") {
   TempDir dir;
   std::string garbage;
   for (int i = 0; i < 300; ++i) garbage += "this is not an SQLite file " + std::to_string(i) + "\n";
-  write_bytes(dir.db(), garbage);
+  write_text(dir.db(), garbage);
   try {
     SqliteStore store(at(dir.db()));
     FAIL("opening a garbage file must throw");
@@ -164,7 +164,7 @@ TEST_CASE("a file that is not a database is refused, named, and left byte for by
     CHECK(message.find("corrupted or not a Marvin database") != std::string::npos);
     CHECK(message.find("left untouched for recovery") != std::string::npos);
   }
-  CHECK(read_bytes(dir.db()) == garbage);
+  CHECK(read_text(dir.db()) == garbage);
   CHECK_FALSE(std::filesystem::exists(dir.path() / "marvin.db-wal"));
 }
 
@@ -178,23 +178,23 @@ TEST_CASE("a database with a damaged page is refused and left byte for byte") {
       store.add_contact(c);
     }
   }  // the last connection checkpoints the WAL into the file
-  std::string bytes = read_bytes(dir.db());
+  std::string bytes = read_text(dir.db());
   REQUIRE(bytes.size() > 4 * 4096);
   // Scribble over the middle of page 3 (a b-tree page of the contacts table or an index).
   for (std::size_t i = 2 * 4096 + 8; i < 2 * 4096 + 2000; ++i) bytes[i] = static_cast<char>(0xA5);
-  write_bytes(dir.db(), bytes);
+  write_text(dir.db(), bytes);
   CHECK_THROWS_AS(SqliteStore(at(dir.db())), sql::CorruptDatabase);
   CHECK_THROWS_WITH(SqliteStore(at(dir.db())), doctest::Contains(dir.db().string().c_str()));
-  CHECK(read_bytes(dir.db()) == bytes);
+  CHECK(read_text(dir.db()) == bytes);
 }
 
 TEST_CASE("a foreign SQLite file is not taken over") {
   TempDir dir;
   { Raw raw(dir.db()); raw.exec("CREATE TABLE photos(id INTEGER PRIMARY KEY)"); }
-  const std::string before = read_bytes(dir.db());
+  const std::string before = read_text(dir.db());
   CHECK_THROWS_WITH(SqliteStore(at(dir.db())),
                     doctest::Contains("is an SQLite file with tables but no Marvin schema version"));
-  CHECK(read_bytes(dir.db()) == before);
+  CHECK(read_text(dir.db()) == before);
 }
 
 TEST_CASE("reminders: add, list by window, cancel, snooze, complete") {

@@ -1,12 +1,11 @@
-// Shared helpers of the data tests: a fresh temporary directory per test, file bytes.
+// Shared helpers of the data tests: a temporary directory holding the store's file, and the
+// store's minute.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <random>
-#include <string>
+
+#include "support/files.h"
 
 namespace marvin::data::test {
 
@@ -14,36 +13,11 @@ namespace marvin::data::test {
 // share this instead of each defining it).
 inline constexpr std::int64_t kMinute = 60'000;
 
-// A directory under the system temp dir, removed with everything in it at scope exit.
-class TempDir {
+// A fresh temporary directory (tests/support), removed at scope exit, with the path the
+// store's database file takes in it.
+class TempDir : public marvin::test_support::TempDir {
  public:
-  TempDir() {
-    std::random_device rd;
-    path_ = std::filesystem::temp_directory_path() /
-            ("marvin-data-test-" + std::to_string(rd()) + "-" + std::to_string(rd()));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-  std::filesystem::path db() const { return path_ / "marvin.db"; }
-
- private:
-  std::filesystem::path path_;
+  std::filesystem::path db() const { return path() / "marvin.db"; }
 };
-
-inline std::string read_bytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-inline void write_bytes(const std::filesystem::path& p, const std::string& bytes) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
 
 }  // namespace marvin::data::test
