@@ -160,15 +160,61 @@ TEST_CASE("spec_mask clears one band of bins and one span of frames, the same fo
   CHECK(widest_span == 4);
 }
 
-TEST_CASE("training with masking repeats for a seed and differs from training without") {
+TEST_CASE("warp_frequency moves a formant by the factor and keeps factor 1 as it is") {
+  // Centre frequency of each bin, computed here from the HTK mel formula (20 Hz..8 kHz).
+  auto mel = [](double hz) { return 2595.0 * std::log10(1.0 + hz / 700.0); };
+  auto centre_hz = [&](int i) {
+    const double m = mel(20.0) + (mel(8000.0) - mel(20.0)) * (i + 1) / (kws::kBins + 1);
+    return 700.0 * (std::pow(10.0, m / 2595.0) - 1.0);
+  };
+  auto with_peak_at = [](int bin) {
+    std::vector<float> x(kws::kInputSize, 0.0f);
+    for (int t = 0; t < kws::kInputFrames; ++t) x[static_cast<std::size_t>(t * kws::kBins + bin)] = 1.0f;
+    return x;
+  };
+  auto peak_bin = [](const std::vector<float>& x, int frame) {
+    const auto row = x.begin() + frame * kws::kBins;
+    return static_cast<int>(std::max_element(row, row + kws::kBins) - row);
+  };
+  std::vector<float> ramp(kws::kInputSize);
+  for (std::size_t i = 0; i < ramp.size(); ++i) ramp[i] = static_cast<float>(i % kws::kBins);
+  std::vector<float> same = ramp;
+  kws::warp_frequency(same, 1.0f);
+  for (std::size_t i = 0; i < ramp.size(); ++i) REQUIRE(same[i] == doctest::Approx(ramp[i]).epsilon(1e-4));
+
+  for (const float factor : {0.8f, 1.25f, 1.4f}) {
+    const int from = 18;
+    std::vector<float> x = with_peak_at(from);
+    kws::warp_frequency(x, factor);
+    int expected = 0;  // the bin whose centre is nearest to factor x the peak's frequency
+    for (int i = 1; i < kws::kBins; ++i) {
+      if (std::fabs(centre_hz(i) - factor * centre_hz(from)) <
+          std::fabs(centre_hz(expected) - factor * centre_hz(from))) {
+        expected = i;
+      }
+    }
+    CAPTURE(factor);
+    CHECK(expected != from);
+    CHECK(std::abs(peak_bin(x, 0) - expected) <= 1);
+    CHECK(peak_bin(x, kws::kInputFrames - 1) == peak_bin(x, 0));  // every frame alike
+  }
+  // Lowering the formants reads above the top bin for the top bins: they hold its value.
+  std::vector<float> top = with_peak_at(kws::kBins - 1);
+  kws::warp_frequency(top, 0.8f);
+  CHECK(top[kws::kBins - 1] == 1.0f);
+  CHECK(top[0] == 0.0f);
+}
+
+TEST_CASE("training with masking or warping repeats for a seed and differs from training without") {
   const kws::TrainingSet train = toy_set(4, 1);
   const kws::FloatNetwork initial = kws::make_initialised_network(12);
-  auto run = [&](int bins, int frames) {
+  auto run = [&](int bins, int frames, float warp = 0.0f) {
     kws::FloatNetwork net = initial;
     kws::TrainOptions o;
     o.batch_size = 8;
     o.freq_mask_bins = bins;
     o.time_mask_frames = frames;
+    o.freq_warp = warp;
     kws::Trainer trainer(net, o);
     std::mt19937_64 rng(2);
     trainer.train_epoch(train, rng, {});
@@ -189,6 +235,9 @@ TEST_CASE("training with masking repeats for a seed and differs from training wi
   const std::vector<float> masked = run(6, 4);
   CHECK(relative_difference(masked, run(6, 4)) < 1e-3f);
   CHECK(relative_difference(masked, run(0, 0)) > 0.05f);
+  const std::vector<float> warped = run(0, 0, 0.3f);
+  CHECK(relative_difference(warped, run(0, 0, 0.3f)) < 1e-3f);
+  CHECK(relative_difference(warped, run(0, 0)) > 0.05f);
 }
 
 TEST_CASE("detection decision: smoothing, threshold, one detection per keyword") {

@@ -76,6 +76,11 @@ int main(int argc, char** argv) {
   app.add_option("--time-mask", topt.time_mask_frames,
                  "SpecAugment: ... and a span of up to this many input frames (30 ms each)")
       ->capture_default_str();
+  app.add_option("--freq-warp", topt.freq_warp,
+                 "vocal tract length perturbation: each example, every epoch, has its mel axis "
+                 "warped by a factor in [1/(1+W), 1+W]")
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->capture_default_str();
   app.add_option("--threads", topt.threads)->capture_default_str();
   app.add_option("--threshold", threshold, "detection threshold stored in the model")->capture_default_str();
   app.add_option("--smoothing", smoothing, "posterior smoothing windows stored in the model")->capture_default_str();

@@ -2,12 +2,14 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
 #include <thread>
 
 #include "perception/kws/im2col.h"
+#include "perception/log_mel.h"
 
 namespace marvin::perception::kws {
 
@@ -72,16 +74,61 @@ void spec_mask(std::span<float> input, int freq_mask_bins, int time_mask_frames,
   });
 }
 
+void warp_frequency(std::span<float> input, float factor) {
+  constexpr std::size_t n = kBins;
+  // Bin centres in mel, as log_mel.cpp spaces them (n + 2 edges, centre i = edge i + 1).
+  static const std::array<float, n> centre_mel = [] {
+    const LogMelOptions o;
+    const float low = hz_to_mel(o.low_hz), high = hz_to_mel(o.high_hz);
+    std::array<float, n> c{};
+    for (std::size_t i = 0; i < n; ++i) {
+      c[i] = low + (high - low) * static_cast<float>(i + 1) / static_cast<float>(n + 1);
+    }
+    return c;
+  }();
+  const float step = centre_mel[1] - centre_mel[0];
+  // Where each output bin reads from, as a fractional bin index (the same for every frame).
+  std::array<std::size_t, n> lower{};
+  std::array<float, n> frac{};
+  for (std::size_t i = 0; i < n; ++i) {
+    const float source_mel = hz_to_mel(mel_to_hz(centre_mel[i]) / factor);
+    const float pos = std::clamp((source_mel - centre_mel[0]) / step, 0.0f, static_cast<float>(n - 1));
+    lower[i] = std::min(static_cast<std::size_t>(pos), n - 2);
+    frac[i] = pos - static_cast<float>(lower[i]);
+  }
+  std::array<float, n> frame{};
+  for (int t = 0; t < kInputFrames; ++t) {
+    float* row = input.data() + static_cast<std::ptrdiff_t>(t) * kBins;
+    std::copy_n(row, n, frame.begin());
+    for (std::size_t i = 0; i < n; ++i) {
+      row[i] = frame[lower[i]] + frac[i] * (frame[lower[i] + 1] - frame[lower[i]]);
+    }
+  }
+}
+
 namespace {
 
-bool masking(const TrainOptions& o) { return o.freq_mask_bins > 0 || o.time_mask_frames > 0; }
+bool augmenting(const TrainOptions& o) {
+  return o.freq_mask_bins > 0 || o.time_mask_frames > 0 || o.freq_warp > 0.0f;
+}
+
+// One example's augmentation: a warp (its own stream, so turning warping on leaves the masks
+// of a seed as they were), then the masks.
+void augment_input(std::span<float> input, const TrainOptions& o, std::uint64_t seed) {
+  if (o.freq_warp > 0.0f) {
+    std::mt19937_64 rng(mix_seed(seed, 0x5741'5250ull));
+    const float span = std::log1p(o.freq_warp);
+    warp_frequency(input, std::exp(std::uniform_real_distribution<float>(-span, span)(rng)));
+  }
+  spec_mask(input, o.freq_mask_bins, o.time_mask_frames, seed);
+}
 
 }  // namespace
 
 // Scratch for one share of a batch.
 struct Trainer::Worker {
   RowMatrix x1, z1, a1, x2, z2, a2, l, h, o;
-  std::vector<float> masked;  // one example's input after spec_mask()
+  std::vector<float> masked;  // one example's input after augment_input()
   std::vector<int> argmax;  // per a1 element: the z1 row the max came from
   FloatNetwork grad;
   double loss = 0.0;
@@ -100,10 +147,9 @@ struct Trainer::Worker {
     for (int i = 0; i < b; ++i) {
       const std::span<const float> input = data.input(idx[static_cast<std::size_t>(i)]);
       const float* source = input.data();
-      if (masking(options)) {
+      if (augmenting(options)) {
         masked.assign(input.begin(), input.end());
-        spec_mask(masked, options.freq_mask_bins, options.time_mask_frames,
-                  mix_seed(mask_seed, first + static_cast<std::size_t>(i)));
+        augment_input(masked, options, mix_seed(mask_seed, first + static_cast<std::size_t>(i)));
         source = masked.data();
       }
       detail::im2col_conv1(source, x1.data() + static_cast<std::ptrdiff_t>(i) * kP1 * kConv1In);
@@ -290,7 +336,7 @@ EpochStats Trainer::train_epoch(
   for (std::size_t start = 0; start < order.size(); start += bs) {
     const std::size_t n = std::min(bs, order.size() - start);
     std::size_t correct = 0;
-    if (masking(options_)) mask_seed_ = rng();  // drawn only when on: runs without stay as before
+    if (augmenting(options_)) mask_seed_ = rng();  // drawn only when on: runs without stay as before
     const double loss = loss_and_gradient(data, std::span<const std::size_t>(order).subspan(start, n),
                                           gradient, &correct);
     adam_step(gradient);

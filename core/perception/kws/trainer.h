@@ -41,11 +41,24 @@ struct TrainOptions {
   // moment. 0 and 0 = off (models/README.md has what it did for espeak-ng voices).
   int freq_mask_bins = 0;
   int time_mask_frames = 0;
+  // Vocal tract length perturbation (Jaitly & Hinton 2013), also drawn anew for every
+  // example in every epoch: the mel axis is warped by a factor log-uniform in
+  // [1/(1+freq_warp), 1+freq_warp], as if the speaker's formants sat that much higher or
+  // lower. 0 = off.
+  float freq_warp = 0.0f;
 };
 
 // The mask train_epoch() applies to one normalised input (kInputSize values, frame-major):
 // a band and a span as above, chosen by `seed` alone.
 void spec_mask(std::span<float> input, int freq_mask_bins, int time_mask_frames, std::uint64_t seed);
+
+// Warps one input's frequency axis by `factor` (> 1 moves energy up, like a shorter vocal
+// tract): output bin i takes the value at frequency f_i / factor, where f_i is bin i's centre
+// frequency of the default LogMelOptions, interpolated linearly between the neighbouring
+// bins' centres and held at the edge bins beyond them. factor 1 changes nothing. The trainer
+// warps normalised inputs: the per-bin means vary slowly across bins, so that is close to
+// warping the log-mel energies themselves.
+void warp_frequency(std::span<float> input, float factor);
 
 struct EpochStats {
   double loss = 0.0;      // mean cross-entropy over the epoch
