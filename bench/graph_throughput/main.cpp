@@ -26,8 +26,6 @@
 #include <thread>
 
 #include "graph/graph.h"
-#include "graph/node.h"
-#include "graph/node_registry.h"
 #include "graph/stats.h"
 
 namespace {
@@ -35,54 +33,15 @@ namespace {
 using namespace marvin::graph;
 using Clock = std::chrono::steady_clock;
 
-// CounterSource at a fixed rate: packet n is due n * interval_ns after the first, whatever
-// the delays before it (the source catches up instead of drifting).
-class PacedCounter : public Node {
- public:
-  static void declare(Contract& c) {
-    c.option_int("count", 0, 0);
-    c.option_int("interval_ns", 0, 0);
-    c.add_output<int64_t>("out");
-  }
-  void open(Context& ctx) override {
-    count_ = ctx.options().get_int("count");
-    interval_ns_ = ctx.options().get_int("interval_ns");
-  }
-  void process(Context& ctx) override {
-    if (next_ >= count_) {
-      ctx.finish();
-      return;
-    }
-    const auto now = Clock::now();
-    if (next_ == 0) start_ = now;
-    const auto due = start_ + std::chrono::nanoseconds(next_ * interval_ns_);
-    if (due > now) {
-      ctx.wake_after(due - now);
-      return;
-    }
-    ctx.emit(0, Packet::make<int64_t>(next_).at(next_));
-    ++next_;
-  }
-
- private:
-  int64_t count_ = 0, interval_ns_ = 0, next_ = 0;
-  Clock::time_point start_;
-};
-MARVIN_REGISTER_NODE(PacedCounter, "PacedCounter");
-
 struct GraphResult {
   double packets_per_s = 0;
   int64_t worst_p50_ns = 0, worst_p99_ns = 0;
 };
 
-// `interval_ns` 0: the source emits as fast as the streams take packets.
-GraphResult run_graph(int stages, int64_t packets, std::size_t capacity, int64_t interval_ns = 0) {
+// `interval_us` 0: the source emits as fast as the streams take packets.
+GraphResult run_graph(int stages, int64_t packets, std::size_t capacity, int64_t interval_us = 0) {
   GraphConfig c;
-  if (interval_ns == 0) {
-    c.add_node("source", "CounterSource", {{"count", packets}});
-  } else {
-    c.add_node("source", "PacedCounter", {{"count", packets}, {"interval_ns", interval_ns}});
-  }
+  c.add_node("source", "CounterSource", {{"count", packets}, {"interval_us", interval_us}});
   std::string previous = "source";
   for (int i = 1; i + 1 < stages; ++i) {
     const std::string name = "pass" + std::to_string(i);
@@ -210,10 +169,10 @@ int main(int argc, char** argv) {
   const GraphResult four = run_graph(4, packets, kCapacity);
   // Paced: 20,000 packets/s (one every 50 us) for 2 s, far below saturation but far above
   // what the robot's graphs carry (audio chunks come 50 times a second).
-  constexpr int64_t kPacedInterval = 50'000, kPacedPackets = 40'000;
-  const GraphResult two_paced = run_graph(2, kPacedPackets, kCapacity, kPacedInterval);
-  const GraphResult four_paced = run_graph(4, kPacedPackets, kCapacity, kPacedInterval);
-  const GraphResult mutex_paced = run_mutex_paced(kPacedPackets, kPacedInterval);
+  constexpr int64_t kPacedIntervalUs = 50, kPacedPackets = 40'000;
+  const GraphResult two_paced = run_graph(2, kPacedPackets, kCapacity, kPacedIntervalUs);
+  const GraphResult four_paced = run_graph(4, kPacedPackets, kCapacity, kPacedIntervalUs);
+  const GraphResult mutex_paced = run_mutex_paced(kPacedPackets, kPacedIntervalUs * 1000);
   const double camel = run_moodycamel(packets);
   const double mutexq = run_mutex_queue(packets, kCapacity);
 

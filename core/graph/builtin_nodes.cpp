@@ -124,9 +124,14 @@ class CounterSource : public Node {
  public:
   static void declare(Contract& c) {
     c.option_int("count", 0, 0);
+    c.option_int("interval_us", 0, 0, INT64_MAX / 1'000'000);
     c.add_output<int64_t>("out");
   }
-  void open(Context& ctx) override { count_ = ctx.options().get_int("count"); }
+  void open(Context& ctx) override {
+    count_ = ctx.options().get_int("count");
+    interval_us_ = ctx.options().get_int("interval_us");
+    pacer_.configure(interval_us_ > 0 ? 1.0 : 0.0);
+  }
   void process(Context& ctx) override {
     if (count_ > 0 && next_ >= count_) {
       ctx.finish();
@@ -134,10 +139,12 @@ class CounterSource : public Node {
     }
     ctx.emit(0, Packet::make<int64_t>(next_).at(next_));
     ++next_;
+    pacer_.wait_for(ctx, next_ * interval_us_);
   }
 
  private:
-  int64_t count_ = 0, next_ = 0;
+  int64_t count_ = 0, interval_us_ = 0, next_ = 0;
+  Pacer pacer_;
 };
 
 class PassThrough : public Node {

@@ -10,7 +10,8 @@
 //       period_ms (500): the state flips every period; tick_ms (50): how often the bound
 //       advances; duration_ms (2000); pace (1.0); start_open (true)
 //   CounterSource         -> out (int64): 0, 1, 2, ... stamped 0, 1, 2, ...
-//       count (0 = until stopped)
+//       count (0 = until stopped), interval_us (0 = as fast as the streams take them;
+//       otherwise packet n is due n * interval_us after the first, in real time)
 //   PassThrough           in (any) -> out (same type): forwards every packet
 //   Sink                  in (any): takes every packet (counters show how many)
 //   GraphInput            -> out (option "type", default "any"): packets given to Graph::push();

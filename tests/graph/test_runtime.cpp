@@ -148,6 +148,23 @@ TEST_CASE("stop under load drains the lossless streams") {
   CHECK(seen.timestamps() == iota(static_cast<Timestamp>(produced)));
 }
 
+TEST_CASE("a paced CounterSource holds each packet until it is due, and stop ends the wait") {
+  // One packet an hour: the first comes at once, the second not before stop() ends the graph.
+  GraphConfig c;
+  c.add_node("count", "CounterSource", {{"count", 3}, {"interval_us", int64_t{3'600'000'000}}})
+      .add_node("sink", "Sink")
+      .connect("count.out", "sink.in");
+  Graph g(c, quiet_options());
+  Recorder seen;
+  g.observe("count.out", seen.observer());
+  g.start();
+  REQUIRE(seen.wait_for_count(1));
+  g.stop();
+  g.wait();
+  CHECK(node(g.stats(), "count").emitted == 1);
+  CHECK(seen.timestamps() == iota(1));
+}
+
 TEST_CASE("cancel stops an endless graph at once; the destructor cancels too") {
   GraphConfig c;
   c.add_node("count", "CounterSource").add_node("sink", "Sink").connect("count.out", "sink.in");

@@ -116,7 +116,7 @@ bool augmenting(const TrainOptions& o) {
 // of a seed as they were), then the masks.
 void augment_input(std::span<float> input, const TrainOptions& o, std::uint64_t seed) {
   if (o.freq_warp > 0.0f) {
-    std::mt19937_64 rng(mix_seed(seed, 0x5741'5250ull));
+    std::mt19937_64 rng(mix_seed(seed, 0x5741'5250ull));  // index "WARP" in ASCII
     const float span = std::log1p(o.freq_warp);
     warp_frequency(input, std::exp(std::uniform_real_distribution<float>(-span, span)(rng)));
   }
@@ -128,16 +128,16 @@ void augment_input(std::span<float> input, const TrainOptions& o, std::uint64_t 
 // Scratch for one share of a batch.
 struct Trainer::Worker {
   RowMatrix x1, z1, a1, x2, z2, a2, l, h, o;
-  std::vector<float> masked;  // one example's input after augment_input()
+  std::vector<float> augmented;  // one example's input after augment_input()
   std::vector<int> argmax;  // per a1 element: the z1 row the max came from
   FloatNetwork grad;
   double loss = 0.0;
   std::size_t correct = 0;
 
-  // `first` is the position of idx[0] in the batch: with masking on, example k of the batch
-  // gets the mask of mix_seed(mask_seed, k) however the batch is split between workers.
+  // `first` is the position of idx[0] in the batch: with augmentation on, example k of the batch
+  // is augmented with mix_seed(augment_seed, k) however the batch is split between workers.
   void run(const FloatNetwork& net, const TrainingSet& data, std::span<const std::size_t> idx,
-           float inv_total, const TrainOptions& options, std::uint64_t mask_seed, std::size_t first) {
+           float inv_total, const TrainOptions& options, std::uint64_t augment_seed, std::size_t first) {
     const int b = static_cast<int>(idx.size());
     loss = 0.0;
     correct = 0;
@@ -148,9 +148,9 @@ struct Trainer::Worker {
       const std::span<const float> input = data.input(idx[static_cast<std::size_t>(i)]);
       const float* source = input.data();
       if (augmenting(options)) {
-        masked.assign(input.begin(), input.end());
-        augment_input(masked, options, mix_seed(mask_seed, first + static_cast<std::size_t>(i)));
-        source = masked.data();
+        augmented.assign(input.begin(), input.end());
+        augment_input(augmented, options, mix_seed(augment_seed, first + static_cast<std::size_t>(i)));
+        source = augmented.data();
       }
       detail::im2col_conv1(source, x1.data() + static_cast<std::ptrdiff_t>(i) * kP1 * kConv1In);
     }
@@ -276,10 +276,10 @@ double Trainer::loss_and_gradient(const TrainingSet& data, std::span<const std::
     const std::size_t begin = std::min(batch.size(), w * per);
     const std::size_t end = std::min(batch.size(), begin + per);
     threads.emplace_back([&, w, begin, end] {
-      workers_[w]->run(net_, data, batch.subspan(begin, end - begin), inv_total, options_, mask_seed_, begin);
+      workers_[w]->run(net_, data, batch.subspan(begin, end - begin), inv_total, options_, augment_seed_, begin);
     });
   }
-  workers_[0]->run(net_, data, batch.subspan(0, std::min(per, batch.size())), inv_total, options_, mask_seed_, 0);
+  workers_[0]->run(net_, data, batch.subspan(0, std::min(per, batch.size())), inv_total, options_, augment_seed_, 0);
   for (std::thread& t : threads) t.join();
   gradient = workers_[0]->grad;
   double loss = workers_[0]->loss;
@@ -336,7 +336,7 @@ EpochStats Trainer::train_epoch(
   for (std::size_t start = 0; start < order.size(); start += bs) {
     const std::size_t n = std::min(bs, order.size() - start);
     std::size_t correct = 0;
-    if (augmenting(options_)) mask_seed_ = rng();  // drawn only when on: runs without stay as before
+    if (augmenting(options_)) augment_seed_ = rng();  // drawn only when on: runs without stay as before
     const double loss = loss_and_gradient(data, std::span<const std::size_t>(order).subspan(start, n),
                                           gradient, &correct);
     adam_step(gradient);

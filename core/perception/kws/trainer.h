@@ -90,7 +90,7 @@ class Trainer {
   TrainOptions options_;
   FloatNetwork m_, v_;
   std::int64_t step_ = 0;
-  std::uint64_t mask_seed_ = 0;  // of the current batch, when masking is on
+  std::uint64_t augment_seed_ = 0;  // of the current batch, when masking or warping is on
   std::vector<std::unique_ptr<Worker>> workers_;
 };
 
