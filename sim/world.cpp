@@ -321,6 +321,7 @@ World parse_world(const std::string& json_text, const std::filesystem::path& fil
     Person p;
     thing(people[i], w, p, 1.6);
     p.owner = people[i].value("owner", false);
+    if (p.owner) world.map.owner = p.name;
     world.map.people.push_back({p.name, p.at, p.room});
     world.people.push_back(std::move(p));
   }

@@ -24,6 +24,7 @@
 #include "app/voice_run.h"
 #include "app/installed_skills.h"
 #include "common/log.h"
+#include "sim/world.h"
 #include "skills/api_json.h"
 
 namespace marvin::app {
@@ -39,6 +40,12 @@ struct RunOptions {
   bool in_memory = false;
   bool verbose = false;
   std::string mcu_tty;
+  // The simulated home: --world (default examples/worlds/home.json with --sim), --speed,
+  // --seed, --show.
+  std::string world;
+  double speed = 1;
+  std::uint64_t seed = 1;
+  std::string show;
   VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
 };
 
@@ -52,6 +59,14 @@ HostOptions host_options(const RunOptions& o) {
   h.in_memory_data = o.in_memory;
   h.data_dir = o.data_dir;
   h.mcu_tty = o.mcu_tty;
+  // --sim lives in the default home unless the base is on a tty (marvin-mcu-sim has its
+  // own room) or another world is named.
+  if (o.sim && o.mcu_tty.empty()) {
+    h.world_file = o.world.empty() ? sim::default_world_file() : std::filesystem::path(o.world);
+    h.sim_speed = o.speed;
+    h.sim_seed = o.seed;
+    h.show = o.show;
+  }
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
     try {
@@ -69,6 +84,8 @@ std::unique_ptr<Host> open_host(const RunOptions& o,
   HostOptions h = host_options(o);
   try {
     return std::make_unique<Host>(std::move(h), std::move(write));
+  } catch (const sim::WorldError& e) {
+    throw CliError(std::string("cannot load the world: ") + e.what(), 2);
   } catch (const std::exception& e) {
     throw CliError(std::string("cannot open the personal data: ") + e.what() +
                        " (use --data-dir DIR, or --in-memory)",
@@ -198,6 +215,14 @@ void install_skill_platform_commands(CLI::App& root) {
   run->add_option("--mcu-tty", options->mcu_tty,
                   "Also drive the base through this serial tty: the MCU, or the --link path "
                   "of a running marvin-mcu-sim");
+  run->add_option("--world", options->world,
+                  "With --sim: live in this world file (default: examples/worlds/home.json)");
+  run->add_option("--speed", options->speed,
+                  "With --sim: simulated seconds per second (default 1; 10 runs 10x faster)")
+      ->check(CLI::Range(0.1, 1000.0));
+  run->add_option("--seed", options->seed, "With --sim: the simulation's random seed (default 1)");
+  run->add_option("--show", options->show,
+                  "With --sim: keep this PNG picture of the floor plan and the robot up to date");
   add_skill_options(*run, *options);
   add_voice_run_options(*run, options->voice);
   run->callback([options] { run_sim(*options); });

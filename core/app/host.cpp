@@ -1,4 +1,5 @@
 #include "app/host.h"
+#include "app/sim_home.h"
 
 #include "devices/serial_body.h"
 
@@ -237,6 +238,16 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
     serial_body_ = std::move(serial);
     mirrored_body_ = std::make_unique<MirroredBody>(body_, *serial_body_);
     services_.body = mirrored_body_.get();
+  } else if (!options_.world_file.empty()) {
+    SimHomeOptions sim;
+    sim.world_file = options_.world_file;
+    sim.speed = options_.sim_speed;
+    sim.seed = options_.sim_seed;
+    sim.show = options_.show;
+    sim_home_ = std::make_unique<SimHome>(sim, [this](std::string_view line) { console_.line(line); });
+    mirrored_body_ = std::make_unique<MirroredBody>(body_, sim_home_->body());
+    services_.body = mirrored_body_.get();
+    services_.going_places = &sim_home_->navigator();
   }
   services_.time_zone = options_.time_zone.empty() ? system_time_zone() : options_.time_zone;
   if (options_.fixed_now_ms) {
@@ -288,6 +299,8 @@ Host::~Host() {
   manager_.reset();    // joins a running task first
   reminders_.reset();  // stops the scheduler's thread
   registry_.reset();  // then the skills go
+  mirrored_body_.reset();
+  sim_home_.reset();
 }
 
 void Host::add_runtime(std::unique_ptr<skills::SkillRuntime> runtime) {

@@ -26,6 +26,7 @@
 
 namespace marvin::app {
 
+class SimHome;
 class SkillReloader;
 class SkillWatcher;
 
@@ -76,6 +77,12 @@ struct HostOptions {
   // The store's installed skills (app/installed_skills.h), loaded after `skills_dirs` when
   // the directory exists; no error when it does not. Empty: none.
   std::filesystem::path installed_skills_dir;
+  // The simulated home (app/sim_home.h): with a world file and no mcu_tty, the body is the
+  // simulated robot in that world and skills can go places. Empty: the console body only.
+  std::filesystem::path world_file;
+  double sim_speed = 1;       // simulated seconds per second
+  std::uint64_t sim_seed = 1;
+  std::filesystem::path show;  // keep this PNG of the floor plan up to date
 };
 
 // Where this build put its built-in skills (<build>/skills).
@@ -117,6 +124,8 @@ class Host {
   skills::Manager& manager() { return *manager_; }
   skills::HostLoop& loop() { return *loop_; }
   devices::Body& body() { return *services_.body; }
+  // The simulated home, with HostOptions::world_file; else nullptr.
+  SimHome* sim_home() { return sim_home_.get(); }
 
   // For a voice front end (app/voice_host.h); set before loop().run(). `said` gets every
   // sentence Marvin says, after the console showed it, on the thread that said it.
@@ -132,7 +141,8 @@ class Host {
   Console console_;
   ConsoleBody body_;
   std::unique_ptr<devices::Body> serial_body_;  // with mcu_tty: the base over the serial link
-  std::unique_ptr<devices::Body> mirrored_body_;  // with mcu_tty: console + serial
+  std::unique_ptr<devices::Body> mirrored_body_;  // with mcu_tty or a world: console + it
+  std::unique_ptr<SimHome> sim_home_;             // with a world file
   std::unique_ptr<skills::InMemoryPersonalData> memory_;
   std::unique_ptr<data::SqliteStore> store_;
   std::unique_ptr<data::Clock> clock_;

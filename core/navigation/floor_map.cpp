@@ -32,7 +32,8 @@ const Room* FloorMap::room_at(Vec2 p) const {
 }
 
 std::optional<Target> FloorMap::find(std::string_view name) const {
-  const std::string want = normalise_name(name);
+  std::string want = normalise_name(name);
+  if (want == "me" && !owner.empty()) want = normalise_name(owner);
   for (const Room& r : rooms) {
     if (normalise_name(r.name) == want) return Target{Target::Kind::kRoom, r.name, r.spot, r.name};
   }

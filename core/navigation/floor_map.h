@@ -53,12 +53,13 @@ struct FloorMap {
   std::vector<Door> doors;
   std::vector<Place> places;
   std::vector<Place> people;
+  std::string owner;  // the person "me" means ("come here"); "" if unknown
 
   // The room whose outline holds p, or nullptr (outside, or exactly in a doorway).
   const Room* room_at(Vec2 p) const;
   // A room, place or person by name: case and a leading "the " do not matter
   // ("The Kitchen" finds room "kitchen", "sofa" finds place "the sofa"). Rooms first,
-  // then places, then people.
+  // then places, then people; "me" is the owner.
   std::optional<Target> find(std::string_view name) const;
   // The smallest axis-aligned box holding every wall and room.
   Box bounds() const;

@@ -20,33 +20,11 @@
 
 #include "devices/body.h"
 #include "navigation/floor_map.h"
+#include "navigation/going_places.h"
 #include "navigation/occupancy_grid.h"
 #include "navigation/planner.h"
 
 namespace marvin::navigation {
-
-struct GoResult {
-  enum class Outcome { kArrived, kUnknownPlace, kGaveUp, kCancelled } outcome = Outcome::kArrived;
-  std::string target;  // as the map spells it ("kitchen", "the sofa", "Anna")
-  std::string reason;  // for kUnknownPlace / kGaveUp: "the kitchen door is blocked"
-  bool arrived() const { return outcome == Outcome::kArrived; }
-};
-
-// Waits `ms` of robot time between two control steps; returns true when the request was
-// cancelled meanwhile (the user said "stop"), which must end the wait at once.
-using WaitFn = std::function<bool(std::chrono::milliseconds)>;
-
-// What skills reach through the Robot API (core/skills/host_api.h).
-class GoingPlaces {
- public:
-  virtual ~GoingPlaces() = default;
-  // Drives to `target` (a room, place or person); returns when there, given up or cancelled.
-  virtual GoResult go_to(std::string_view target, const WaitFn& wait) = 0;
-  // Stops the wheels now; a running go_to() returns kCancelled at its next step.
-  virtual void stop() = 0;
-  // The room the robot believes it is in; nullopt between rooms (a doorway) or outside.
-  virtual std::optional<std::string> where_am_i() = 0;
-};
 
 struct NavigatorOptions {
   double cell_m = 0.05;
@@ -61,6 +39,7 @@ struct NavigatorOptions {
   std::chrono::milliseconds step{100};
   int max_replans = 8;
   double give_up_after_s = 120;     // robot time for one go_to
+  double time_scale = 1;            // robot seconds per wall second (GoingPlaces::time_scale)
 };
 
 class Navigator : public GoingPlaces {
@@ -76,6 +55,7 @@ class Navigator : public GoingPlaces {
   GoResult go_to(std::string_view target, const WaitFn& wait) override;
   void stop() override;
   std::optional<std::string> where_am_i() override;
+  double time_scale() const override { return options_.time_scale; }
 
   const FloorMap& map() const { return map_; }
   const NavigatorOptions& options() const { return options_; }

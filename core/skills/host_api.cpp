@@ -190,6 +190,55 @@ marvin_status api_tilt_head(marvin_host* host, int32_t degrees) {
   });
 }
 
+marvin_status api_go_to(marvin_host* host, const char* place) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "motion"));
+    MARVIN_TRY(need_text(c, place, "place"));
+    MARVIN_TRY(need_service(c, c.services().going_places, "map to go places with"));
+    if (c.cancelled()) return fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
+    navigation::GoingPlaces& going = *c.services().going_places;
+    const double scale = going.time_scale() > 0 ? going.time_scale() : 1.0;
+    // Between control steps the navigator waits here, so "stop" (cancel()) wakes it at once
+    // and it stops the wheels before returning.
+    navigation::GoResult r = going.go_to(place, [&](std::chrono::milliseconds robot_ms) {
+      auto wall = static_cast<std::uint32_t>(std::max(1.0, static_cast<double>(robot_ms.count()) / scale));
+      return c.wait_cancelled_for(wall);
+    });
+    switch (r.outcome) {
+      case navigation::GoResult::Outcome::kArrived:
+        return MARVIN_OK;
+      case navigation::GoResult::Outcome::kUnknownPlace:
+        return fail(c, MARVIN_ERR_NOT_FOUND, r.reason);
+      case navigation::GoResult::Outcome::kCancelled:
+        going.stop();
+        return fail(c, MARVIN_ERR_CANCELLED, "the motion was stopped");
+      case navigation::GoResult::Outcome::kGaveUp:
+        break;
+    }
+    return fail(c, MARVIN_ERR_UNAVAILABLE, r.reason);
+  });
+}
+
+marvin_status api_go_stop(marvin_host* host) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "motion"));
+    if (c.services().going_places) c.services().going_places->stop();
+    if (c.services().body) c.services().body->stop();
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_where_am_i(marvin_host* host, marvin_text_out* room) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "sensors"));
+    MARVIN_TRY(need_out(c, room));
+    MARVIN_TRY(need_service(c, c.services().going_places, "map to know its room from"));
+    std::optional<std::string> name = c.services().going_places->where_am_i();
+    if (!name) return fail(c, MARVIN_ERR_NOT_FOUND, "the robot is between rooms");
+    return write_text(room, *name);
+  });
+}
+
 marvin_status api_obstacle_scan(marvin_host* host, marvin_scan_point* points, size_t capacity,
                                 size_t* count) {
   return guarded(host, [&](SkillContext& c) {
@@ -556,6 +605,9 @@ const marvin_robot_api* host_robot_api() {
     a.schedule_snooze = api_schedule_snooze;
     a.schedule_done = api_schedule_done;
     a.schedule_last_fired = api_schedule_last_fired;
+    a.go_to = api_go_to;
+    a.go_stop = api_go_stop;
+    a.where_am_i = api_where_am_i;
     return a;
   }();
   return &api;

@@ -25,6 +25,7 @@
 
 #include "data/personal_data.h"
 #include "devices/body.h"
+#include "navigation/going_places.h"
 #include "skills/user.h"
 
 namespace marvin::skills {
@@ -33,6 +34,9 @@ namespace marvin::skills {
 struct HostServices {
   data::PersonalData* data = nullptr;
   devices::Body* body = nullptr;
+  // Going places (go_to, go_stop, where_am_i): the navigator on the floor plan; null on a
+  // robot without a map (those calls answer MARVIN_ERR_UNAVAILABLE).
+  navigation::GoingPlaces* going_places = nullptr;
   User* user = nullptr;
   // Now, milliseconds since the Unix epoch (UTC). Default: the system clock.
   std::function<std::int64_t()> now_ms;

@@ -1,6 +1,7 @@
 #include "marvin/testing/mock_robot.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <limits>
 
 #include "mock_robot_impl.h"
@@ -17,6 +18,7 @@ MockRobot::Impl::Impl(std::string id, std::vector<std::string> permissions)
   services.time_zone = "UTC";
   services.wait_for_motion = false;
   services.last_fired_reminder = [this] { return last_fired; };
+  services.going_places = this;
   context = std::make_unique<skills::SkillContext>(skill_id, std::move(permissions), services);
 }
 
@@ -43,6 +45,47 @@ std::vector<devices::ScanPoint> MockRobot::Impl::latest_scan() {
 }
 void MockRobot::Impl::set_light(devices::Light light) {
   actions.push_back(std::string("light ") + devices::to_string(light));
+}
+
+namespace {
+// Lower case without a leading "the ": how the robot's map matches names.
+std::string place_key(std::string_view name) {
+  std::string s;
+  for (char c : name) s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (s.rfind("the ", 0) == 0) s.erase(0, 4);
+  return s;
+}
+}  // namespace
+
+navigation::GoResult MockRobot::Impl::go_to(std::string_view target,
+                                            const navigation::WaitFn& wait) {
+  actions.push_back("go_to " + std::string(target));
+  navigation::GoResult r;
+  r.target = std::string(target);
+  if (wait(std::chrono::milliseconds(0))) {
+    r.outcome = navigation::GoResult::Outcome::kCancelled;
+    return r;
+  }
+  for (const auto& [name, reason] : blocked) {
+    if (place_key(name) == place_key(target)) {
+      r.outcome = navigation::GoResult::Outcome::kGaveUp;
+      r.reason = reason;
+      return r;
+    }
+  }
+  for (const auto& [name, in_room] : places) {
+    if (place_key(name) == place_key(target)) {
+      room = in_room;
+      return r;
+    }
+  }
+  r.outcome = navigation::GoResult::Outcome::kUnknownPlace;
+  r.reason = "I don't know where " + std::string(target) + " is";
+  return r;
+}
+std::optional<std::string> MockRobot::Impl::where_am_i() {
+  if (room.empty()) return std::nullopt;
+  return room;
 }
 
 void MockRobot::Impl::say(std::string_view text) { said.emplace_back(text); }
@@ -73,6 +116,14 @@ void MockRobot::set_time_zone(std::string iana_name) {
 }
 void MockRobot::set_scan(std::vector<marvin_scan_point> points) { impl_->scan = std::move(points); }
 void MockRobot::cancel() { impl_->context->cancel(); }
+void MockRobot::add_place(std::string name, std::string room) {
+  impl_->places.emplace_back(std::move(name), std::move(room));
+}
+void MockRobot::block_place(std::string name, std::string reason) {
+  impl_->blocked.emplace_back(std::move(name), std::move(reason));
+}
+void MockRobot::set_room(std::string room) { impl_->room = std::move(room); }
+const std::string& MockRobot::room() const { return impl_->room; }
 
 std::int64_t MockRobot::add_contact(const std::string& name, std::vector<std::string> aliases,
                                     std::vector<std::string> phone_numbers) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <deque>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,7 +14,7 @@
 
 namespace marvin::testing {
 
-struct MockRobot::Impl : devices::Body, skills::User {
+struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   Impl(std::string skill_id, std::vector<std::string> permissions);
 
   // devices::Body
@@ -23,6 +24,10 @@ struct MockRobot::Impl : devices::Body, skills::User {
   void tilt_head(int degrees) override;
   std::vector<devices::ScanPoint> latest_scan() override;
   void set_light(devices::Light light) override;
+
+  // navigation::GoingPlaces: scripted (add_place, block_place, set_room)
+  navigation::GoResult go_to(std::string_view target, const navigation::WaitFn& wait) override;
+  std::optional<std::string> where_am_i() override;
 
   // skills::User
   void say(std::string_view text) override;
@@ -37,6 +42,9 @@ struct MockRobot::Impl : devices::Body, skills::User {
   std::vector<std::string> said, asked, actions;
   std::vector<marvin_scan_point> scan;
   std::optional<std::int64_t> last_fired;
+  std::vector<std::pair<std::string, std::string>> places;   // name, room
+  std::vector<std::pair<std::string, std::string>> blocked;  // name, reason
+  std::string room = "hall";
 };
 
 }  // namespace marvin::testing

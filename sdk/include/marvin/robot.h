@@ -9,8 +9,8 @@
  * Permissions (declared in skill.json, approved by the owner at install):
  *   "speech"    say, ask               (every skill has it implicitly)
  *   "light"     set_light
- *   "motion"    move, stop, tilt_head
- *   "sensors"   obstacle_scan
+ *   "motion"    move, stop, tilt_head, go_to, go_stop (API 1.2)
+ *   "sensors"   obstacle_scan, where_am_i (API 1.2)
  *   "schedule"  schedule_* (schedule_snooze, schedule_done, schedule_last_fired: API 1.1)
  *   "contacts"  contacts_*, people_list
  *   "storage"   storage_*             (a skill only ever sees its own keys)
@@ -59,7 +59,7 @@ typedef enum marvin_log_level {
 } marvin_log_level;
 
 #define MARVIN_ROBOT_API_MAJOR 1
-#define MARVIN_ROBOT_API_MINOR 1
+#define MARVIN_ROBOT_API_MINOR 2
 
 typedef struct marvin_robot_api {
   uint32_t struct_size; /* sizeof(marvin_robot_api) as the host compiled it */
@@ -149,6 +149,23 @@ typedef struct marvin_robot_api {
    * state), so a skill knows which reminder "done" or "snooze" refers to.
    * MARVIN_ERR_NOT_FOUND if no reminder has fired since the host started. */
   marvin_status (*schedule_last_fired)(marvin_host* host, marvin_text_out* reminder_json);
+
+  /* --- since API 1.2: going places -----------------------------------------------
+   * The robot plans a path on its floor plan and drives it, stopping and re-planning
+   * when the sonar sees something in the way. A skill built against 1.2 running on an
+   * older host must check struct_size (or minor) before calling these. */
+  /* Drives to `place` and returns once there: a room ("kitchen"), a named place ("the
+   * sofa"), a person's last known spot ("Anna") or "me" (the robot's owner). Case and a
+   * leading "the" do not matter. MARVIN_ERR_NOT_FOUND for a place the map does not know;
+   * MARVIN_ERR_UNAVAILABLE when the robot gave up, with last_error saying why in words the
+   * user understands ("the kitchen door is blocked") or when the robot has no map;
+   * MARVIN_ERR_CANCELLED when the user said "stop" (the wheels are stopped then). */
+  marvin_status (*go_to)(marvin_host* host, const char* place);
+  /* Stops going places and the wheels now. */
+  marvin_status (*go_stop)(marvin_host* host);
+  /* The room the robot believes it is in ("kitchen"). MARVIN_ERR_NOT_FOUND between rooms
+   * (in a doorway) or outside every room. */
+  marvin_status (*where_am_i)(marvin_host* host, marvin_text_out* room);
 } marvin_robot_api;
 
 #ifdef __cplusplus

@@ -151,6 +151,23 @@ class Robot {
       throw;
     }
   }
+  // Going places (API 1.2). go_to returns once there; throws Error(NOT_FOUND) for a place
+  // the map does not know, Error(UNAVAILABLE) when the robot gave up (what() says why:
+  // "the kitchen door is blocked"), Error(CANCELLED) on "stop".
+  void go_to(std::string_view place) {
+    check(fn(&marvin_robot_api::go_to, "go_to")(host_, str(place).c_str()));
+  }
+  void go_stop() { check(fn(&marvin_robot_api::go_stop, "go_stop")(host_)); }
+  // The room the robot is in, or nullopt between rooms.
+  std::optional<std::string> where_am_i() {
+    auto call = fn(&marvin_robot_api::where_am_i, "where_am_i");
+    try {
+      return text([&](marvin_text_out* out) { return call(host_, out); });
+    } catch (const Error& e) {
+      if (e.status() == MARVIN_ERR_NOT_FOUND) return std::nullopt;
+      throw;
+    }
+  }
   nlohmann::json contacts_find(std::string_view name) {
     std::string n = str(name);
     auto call = fn(&marvin_robot_api::contacts_find, "contacts_find");

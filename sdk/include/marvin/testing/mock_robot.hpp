@@ -52,6 +52,15 @@ class MockRobot {
   void set_scan(std::vector<marvin_scan_point> points);
   // As if the user said "stop": is_cancelled() becomes true, ask() and move() cancel.
   void cancel();
+  // Going places (API 1.2): go_to(place) "arrives" at a place added here (case and a
+  // leading "the" do not matter), which moves the robot to `room`; a blocked place makes
+  // go_to give up with `reason` (MARVIN_ERR_UNAVAILABLE); any other place is not found.
+  // actions() records "go_to <place>" and "stop".
+  void add_place(std::string name, std::string room);
+  void block_place(std::string name, std::string reason);
+  // The room where_am_i() answers ("" : between rooms). Starts as "hall".
+  void set_room(std::string room);
+  const std::string& room() const;
   // Adds a contact the skill can find; returns its id.
   std::int64_t add_contact(const std::string& name, std::vector<std::string> aliases = {},
                            std::vector<std::string> phone_numbers = {});
