@@ -4,9 +4,11 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/cli.h"
 #include "navigation/navigator.h"
+#include "sim/camera.h"
 #include "sim/render.h"
 #include "sim/simulator.h"
 #include "sim/world.h"
@@ -19,6 +21,9 @@ struct RenderOptions {
   std::string out = "map.png";
   std::string to;
   double pixels_per_m = 60;
+  std::string camera;          // also write what the camera sees
+  std::vector<double> pose;    // x y heading_deg: the robot here instead of its start
+  int head_deg = 0;
 };
 
 void render(const RenderOptions& o) {
@@ -28,6 +33,9 @@ void render(const RenderOptions& o) {
                                             : std::filesystem::path(o.world));
   } catch (const sim::WorldError& e) {
     throw CliError(e.what(), 1);
+  }
+  if (!o.pose.empty()) {
+    world.robot.start = {o.pose[0], o.pose[1], o.pose[2] * navigation::kPi / 180};
   }
   sim::Simulator sim(world);
   sim.step(1.0);  // one sweep of the sonar
@@ -48,6 +56,17 @@ void render(const RenderOptions& o) {
   } catch (const std::exception& e) {
     throw CliError(e.what(), 1);
   }
+  if (!o.camera.empty()) {
+    try {
+      sim::SimCamera camera(world, [&] { return sim::CameraView{world.robot.start, 1.0 * o.head_deg, 0}; });
+      vision::Frame frame;
+      camera.read(frame);
+      sim::write_png(frame.image, o.camera);
+    } catch (const std::exception& e) {
+      throw CliError(e.what(), 1);
+    }
+    write_line("wrote " + o.camera + " (the camera's view)");
+  }
   write_line("wrote " + o.out + " (" + std::to_string(world.map.rooms.size()) + " rooms, " +
              std::to_string(world.map.furniture.size()) + " pieces of furniture" +
              (path.empty() ? "" : ", a path of " + std::to_string(path.size()) + " waypoints") + ")");
@@ -62,6 +81,11 @@ void install_world_commands(CLI::App& root) {
   r->add_option("--to", options->to, "Also draw the path from the robot's start to this place");
   r->add_option("--scale", options->pixels_per_m, "Pixels per metre (default 60)")
       ->check(CLI::Range(5.0, 400.0));
+  r->add_option("--camera", options->camera, "Also write what the robot's camera sees (PNG)");
+  r->add_option("--pose", options->pose, "Put the robot at X Y HEADING_DEG instead of its start")
+      ->expected(3);
+  r->add_option("--head", options->head_deg, "Head tilt for --camera, degrees above level")
+      ->check(CLI::Range(-60, 60));
   r->callback([options] { render(*options); });
 }
 
