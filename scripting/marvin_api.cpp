@@ -7,6 +7,7 @@
 // No C++ object with a destructor is alive across a call that may raise (Lua errors
 // longjmp): computed text goes through SkillContext's scratch members.
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include <lua.hpp>
@@ -266,6 +267,52 @@ int l_tilt_head(lua_State* L) {
   return 0;
 }
 
+// --- going places (Robot API 1.2) ----------------------------------------------------------
+
+// True when the host's table reaches `member` (an older host's table ends before it).
+#define MARVIN_HAS_API(ctx, member)                                                  \
+  ((ctx)->api->struct_size >= offsetof(marvin_robot_api, member) + sizeof(void*) && \
+   (ctx)->api->member != nullptr)
+
+// marvin.go_to(place): true once there; false and the reason when the place is unknown or
+// the robot gave up ("the kitchen door is blocked"). "stop" ends the request, as move does.
+int l_go_to(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* place = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "motion", "go_to");
+  need(L, ctx, MARVIN_HAS_API(ctx, go_to), "go_to");
+  Sandbox* sb = ctx->sandbox.get();
+  sb->pause_clock();  // the body's time is not the script's
+  const marvin_status status = ctx->api->go_to(ctx->host, place);
+  sb->resume_clock();
+  if (status == MARVIN_ERR_NOT_FOUND || status == MARVIN_ERR_UNAVAILABLE) {
+    lua_pushboolean(L, 0);
+    lua_pushstring(L, ctx->api->last_error(ctx->host));
+    return 2;
+  }
+  check(L, ctx, "go_to", status);
+  lua_pushboolean(L, 1);
+  return 1;
+}
+
+// marvin.where_am_i(): the room's name, or nil between rooms.
+int l_where_am_i(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "sensors", "where_am_i");
+  need(L, ctx, MARVIN_HAS_API(ctx, where_am_i), "where_am_i");
+  const marvin_status status = ctx->call_text(
+      [ctx](marvin_text_out* out) { return ctx->api->where_am_i(ctx->host, out); });
+  if (status == MARVIN_ERR_NOT_FOUND) {
+    lua_pushnil(L);
+    return 1;
+  }
+  check(L, ctx, "where_am_i", status);
+  lua_pushlstring(L, ctx->text.data(), ctx->text.size());
+  return 1;
+}
+
+#undef MARVIN_HAS_API
+
 // --- time and log ------------------------------------------------------------------------------
 
 int l_now(lua_State* L) {
@@ -439,6 +486,7 @@ void install_marvin_api(lua_State* L, SkillContext* ctx) {
   static const luaL_Reg top[] = {
       {"on", l_on},       {"say", l_say},     {"ask", l_ask},   {"light", l_light},
       {"move", l_move},   {"stop", l_stop},   {"tilt_head", l_tilt_head},
+      {"go_to", l_go_to}, {"where_am_i", l_where_am_i},
       {"now", l_now},     {"after", l_after}, {"log", l_log},   {nullptr, nullptr}};
   set_functions(L, top);
 
