@@ -101,6 +101,15 @@ GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
   return result;
 }
 
+bool Navigator::leg_free(Vec2 from, Vec2 to) const {
+  // Cells within the inflation radius of the robot itself do not count: it stands there.
+  const double len = distance(from, to);
+  for (double t = options_.inflate_m; t < len; t += options_.cell_m) {
+    if (grid_.blocked(grid_.cell_of(from + (to - from) * (t / len)))) return false;
+  }
+  return true;
+}
+
 std::string Navigator::blocked_reason(const Target& target, Vec2 from) {
   const std::string where = with_the(target.name);
   if (!grid_.has_obstacles()) return "I can't find a way to " + where;
@@ -154,7 +163,7 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
         body_.stop();
         Vec2 ahead{pose.x + std::cos(pose.heading) * 0.3, pose.y + std::sin(pose.heading) * 0.3};
         seen_.push_back(ahead);
-        grid_.add_obstacle(ahead, 0.10);
+        grid_.add_obstacle(ahead, options_.mark_radius_m);
         return Follow::kBlocked;
       }
       const double err = wrap_angle(std::atan2(to.y, to.x) - pose.heading);
@@ -170,18 +179,32 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
         driving_forward = true;
         aimed_since = now;  // sonar readings from before this heading point elsewhere
       }
-      // Something ahead the map did not show (or drift brought a wall close)?
+      // What the sonar sees ahead goes on the map (things the plan did not show); something
+      // close ahead stops the robot, and a leg the new marks block is planned again.
+      bool marked = false;
       for (const devices::ScanPoint& p : scan_()) {
         if (p.time_ms < aimed_since || p.angle_deg > 60 || p.distance_m >= 2.5) continue;
         const double horizontal = p.distance_m * std::cos(radians(p.angle_deg));
         const double vertical = p.distance_m * std::sin(radians(p.angle_deg));
-        if (vertical > options_.clearance_m || horizontal > options_.stop_m) continue;
-        if (horizontal > dist + 0.15) continue;  // beyond the waypoint: not in this leg's way
+        if (vertical > options_.clearance_m || horizontal > options_.mark_m) continue;
+        const Vec2 hit{pose.x + std::cos(pose.heading) * horizontal,
+                       pose.y + std::sin(pose.heading) * horizontal};
+        if (!grid_.occupied(grid_.cell_of(hit))) {
+          grid_.add_obstacle(hit, options_.mark_radius_m);
+          seen_.push_back(hit);
+          marked = true;
+        }
+        if (horizontal < options_.stop_m && horizontal < dist + 0.15) {
+          body_.stop();
+          if (!marked) {
+            seen_.push_back(hit);
+            grid_.add_obstacle(hit, options_.mark_radius_m);
+          }
+          return Follow::kBlocked;
+        }
+      }
+      if (marked && !leg_free(pose.position(), wp)) {
         body_.stop();
-        Vec2 hit{pose.x + std::cos(pose.heading) * (horizontal + 0.05),
-                 pose.y + std::sin(pose.heading) * (horizontal + 0.05)};
-        seen_.push_back(hit);
-        grid_.add_obstacle(hit, 0.10);
         return Follow::kBlocked;
       }
       body_.move(devices::Direction::kForward, options_.forward_speed, move_ms);

@@ -36,6 +36,8 @@ struct NavigatorOptions {
   std::uint8_t turn_speed = 90, fine_turn_speed = 45;
   double stop_m = 0.40;             // something ahead closer than this (horizontal) blocks
   double clearance_m = 0.60;        // echoes higher than this above the sonar are no obstacle
+  double mark_m = 1.0;              // echoes closer than this (horizontal) go on the map
+  double mark_radius_m = 0.10;      // each as a disc this wide (then inflated)
   std::chrono::milliseconds step{100};
   int max_replans = 8;
   double give_up_after_s = 120;     // robot time for one go_to
@@ -68,6 +70,7 @@ class Navigator : public GoingPlaces {
   enum class Follow { kArrived, kBlocked, kCancelled, kTimeOut };
   Follow follow(const std::vector<Vec2>& path, const WaitFn& wait, std::int64_t deadline_ms);
   std::string blocked_reason(const Target& target, Vec2 from);
+  bool leg_free(Vec2 from, Vec2 to) const;
 
   FloorMap map_;
   devices::Body& body_;

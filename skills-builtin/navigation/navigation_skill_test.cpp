@@ -2,7 +2,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <string>
 
+#include <marvin/testing/mock_robot.hpp>
 #include <marvin/testing/skill_harness.hpp>
 
 using marvin::testing::SkillHarness;
@@ -41,4 +43,17 @@ TEST_CASE("between rooms") {
   SkillHarness h(NAVIGATION_SKILL_DIR);
   h.robot().set_room("");
   CHECK(h.say("where are you") == std::vector<std::string>{"I'm in a doorway, between two rooms."});
+}
+
+TEST_CASE("the Robot API checks the permission before going anywhere") {
+  marvin::testing::MockRobot robot("nomotion", {});
+  robot.add_place("kitchen", "kitchen");
+  CHECK(robot.api()->go_to(robot.host(), "kitchen") == MARVIN_ERR_PERMISSION);
+  CHECK(std::string(robot.api()->last_error(robot.host())) ==
+        "permission 'motion' is not granted to skill 'nomotion'");
+  CHECK(robot.room() == "hall");
+  CHECK(robot.actions().empty());
+  marvin_text_out out{nullptr, 0, 0};
+  CHECK(robot.api()->where_am_i(robot.host(), &out) == MARVIN_ERR_PERMISSION);
+  CHECK(robot.api()->minor == 2);
 }

@@ -128,3 +128,26 @@ TEST_CASE("stop ends a go_to at once and the wheels stop") {
     CHECK(s.right_m_s() == 0);
   });
 }
+
+TEST_CASE("a box the map does not show: the sonar sees it, the robot re-plans around it") {
+  auto w = marvin::sim::parse_world(R"({"format": "marvin-world", "version": 1,
+    "rooms": [{"name": "hall", "outline": [[0,0],[6,0],[6,4],[0,4]]}],
+    "clutter": [{"name": "box", "min": [2.7, 1.5], "max": [3.3, 2.5], "height_m": 0.5}],
+    "places": [{"name": "the window", "at": [5, 2], "room": "hall"}],
+    "robot": {"start": [1, 2], "heading_deg": 0}})",
+                                    "/tmp/replan.json");
+  Rig rig(std::move(w));
+  // The map has no box: the first plan is the straight line.
+  auto first = rig.nav.plan({1, 2}, {5, 2});
+  REQUIRE(first);
+  CHECK(first->size() == 2);
+  GoResult r;
+  const double least = min_clearance_during(rig, "the window", &r);
+  CHECK(r.arrived());
+  CHECK(rig.nav.path().size() > 2);  // the path it finished on goes around the box
+  CHECK(least > 0.15);
+  rig.runner.inspect([](const marvin::sim::Simulator& s) {
+    CHECK(s.collisions() == 0);
+    CHECK(marvin::navigation::distance(s.pose().position(), {5, 2}) < 0.25);
+  });
+}
