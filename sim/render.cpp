@@ -1,5 +1,6 @@
 #include "sim/render.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
@@ -95,15 +96,18 @@ cv::Mat render_map(const World& world, const RobotView& robot, const MapView& vi
   }
   if (!robot.shown) return img;
   const navigation::Pose& pose = robot.pose;
-  // The camera's field of view: a translucent wedge.
+  // The camera's field of view: a translucent wedge, cut by the walls.
   {
     cv::Mat overlay = img.clone();
     std::vector<cv::Point> wedge{c.px(pose.position())};
     const double half = robot.camera_fov_deg * navigation::kPi / 360;
-    for (int k = 0; k <= 12; ++k) {
-      const double a = pose.heading - half + 2 * half * k / 12.0;
-      wedge.push_back(c.px({pose.x + std::cos(a) * robot.camera_range_m,
-                            pose.y + std::sin(a) * robot.camera_range_m}));
+    for (int k = 0; k <= 48; ++k) {
+      const double a = pose.heading - half + 2 * half * k / 48.0;
+      const Vec2 dir{std::cos(a), std::sin(a)};
+      double reach = robot.camera_range_m;
+      for (const auto& s : world.map.walls)
+        reach = std::min(reach, navigation::ray_segment(pose.position(), dir, s.a, s.b));
+      wedge.push_back(c.px(pose.position() + dir * reach));
     }
     cv::fillPoly(overlay, std::vector<std::vector<cv::Point>>{wedge}, cv::Scalar(0, 220, 255));
     cv::addWeighted(overlay, 0.25, img, 0.75, 0, img);

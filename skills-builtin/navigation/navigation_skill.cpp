@@ -41,7 +41,8 @@ class NavigationSkill : public marvin::Skill {
       robot().go_to(place);
     } catch (const marvin::Error& e) {
       if (e.status() == MARVIN_ERR_NOT_FOUND) {
-        robot().say("Sorry, I don't know where " + shown + " is.");
+        robot().say(place == "me" ? std::string("Sorry, I don't know where you are.")
+                                  : "Sorry, I don't know where " + shown + " is.");
         return;
       }
       if (e.status() == MARVIN_ERR_UNAVAILABLE) {

@@ -31,6 +31,11 @@ TEST_CASE("a place in a room, come here, and places the robot does not know") {
   CHECK(h.say("go to the garage").back() == "Sorry, I don't know where the garage is.");
 }
 
+TEST_CASE("come here without knowing where the user is") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  CHECK(h.say("come here").back() == "Sorry, I don't know where you are.");
+}
+
 TEST_CASE("a blocked way is explained") {
   SkillHarness h(NAVIGATION_SKILL_DIR);
   h.robot().block_place("kitchen", "the kitchen door is blocked");
