@@ -59,9 +59,11 @@ HostOptions host_options(const RunOptions& o) {
   h.in_memory_data = o.in_memory;
   h.data_dir = o.data_dir;
   h.mcu_tty = o.mcu_tty;
-  // --sim lives in the default home unless the base is on a tty (marvin-mcu-sim has its
-  // own room) or another world is named.
-  if (o.sim && o.mcu_tty.empty()) {
+  // --sim lives in the default home unless another world is named. With --mcu-tty the base
+  // is behind the serial link; a --world then gives it a floor plan to go places on.
+  if (!o.mcu_tty.empty()) {
+    h.world_file = o.world;
+  } else if (o.sim) {
     h.world_file = o.world.empty() ? sim::default_world_file() : std::filesystem::path(o.world);
     h.sim_speed = o.speed;
     h.sim_seed = o.seed;
@@ -216,7 +218,8 @@ void install_skill_platform_commands(CLI::App& root) {
                   "Also drive the base through this serial tty: the MCU, or the --link path "
                   "of a running marvin-mcu-sim");
   run->add_option("--world", options->world,
-                  "With --sim: live in this world file (default: examples/worlds/home.json)");
+                  "With --sim: live in this world file (default: examples/worlds/home.json); "
+                  "with --mcu-tty: the floor plan to go places on");
   run->add_option("--speed", options->speed,
                   "With --sim: simulated seconds per second (default 1; 10 runs 10x faster)")
       ->check(CLI::Range(0.1, 1000.0));

@@ -235,6 +235,10 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
       console_.line("[base: not connected on " + options_.mcu_tty + " after " +
                     std::to_string(kBaseWait.count()) + " s; still trying]");
     }
+    if (!options_.world_file.empty()) {
+      serial_navigation_ = std::make_unique<SerialNavigation>(options_.world_file, *serial);
+      services_.going_places = &serial_navigation_->navigator();
+    }
     serial_body_ = std::move(serial);
     mirrored_body_ = std::make_unique<MirroredBody>(body_, *serial_body_);
     services_.body = mirrored_body_.get();
@@ -299,6 +303,7 @@ Host::~Host() {
   manager_.reset();    // joins a running task first
   reminders_.reset();  // stops the scheduler's thread
   registry_.reset();  // then the skills go
+  serial_navigation_.reset();
   mirrored_body_.reset();
   sim_home_.reset();
 }

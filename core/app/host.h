@@ -26,6 +26,7 @@
 
 namespace marvin::app {
 
+class SerialNavigation;
 class SimHome;
 class SkillReloader;
 class SkillWatcher;
@@ -78,7 +79,9 @@ struct HostOptions {
   // the directory exists; no error when it does not. Empty: none.
   std::filesystem::path installed_skills_dir;
   // The simulated home (app/sim_home.h): with a world file and no mcu_tty, the body is the
-  // simulated robot in that world and skills can go places. Empty: the console body only.
+  // simulated robot in that world and skills can go places; with mcu_tty, the world's floor
+  // plan and start pose let skills go places on the serial base by dead reckoning.
+  // Empty: the console body only, and no going places.
   std::filesystem::path world_file;
   double sim_speed = 1;       // simulated seconds per second
   std::uint64_t sim_seed = 1;
@@ -143,6 +146,7 @@ class Host {
   std::unique_ptr<devices::Body> serial_body_;  // with mcu_tty: the base over the serial link
   std::unique_ptr<devices::Body> mirrored_body_;  // with mcu_tty or a world: console + it
   std::unique_ptr<SimHome> sim_home_;             // with a world file
+  std::unique_ptr<SerialNavigation> serial_navigation_;  // with mcu_tty and a world file
   std::unique_ptr<skills::InMemoryPersonalData> memory_;
   std::unique_ptr<data::SqliteStore> store_;
   std::unique_ptr<data::Clock> clock_;

@@ -13,6 +13,8 @@
 #include <string_view>
 #include <thread>
 
+#include "devices/serial_body.h"
+#include "navigation/dead_reckoning.h"
 #include "navigation/navigator.h"
 #include "sim/sim_runner.h"
 
@@ -47,6 +49,21 @@ class SimHome {
   std::condition_variable wake_;
   bool quit_ = false;
   std::thread painter_;
+};
+
+// Going places on the base behind the serial link (the real robot, or marvin-mcu-sim --world):
+// the world file's floor plan and the robot's start pose, the pose by dead reckoning of the
+// commands sent (navigation/dead_reckoning.h), the sonar from the base.
+class SerialNavigation {
+ public:
+  // Loads the world (throws sim::WorldError). `serial` must outlive this.
+  SerialNavigation(const std::filesystem::path& world_file, devices::SerialBody& serial);
+  ~SerialNavigation();
+  navigation::Navigator& navigator() { return *navigator_; }
+
+ private:
+  std::unique_ptr<navigation::DeadReckoning> reckoning_;
+  std::unique_ptr<navigation::Navigator> navigator_;
 };
 
 }  // namespace marvin::app
