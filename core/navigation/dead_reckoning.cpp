@@ -18,21 +18,30 @@ DeadReckoning::DeadReckoning(devices::Body& base, BaseSpec spec, Pose start,
 }
 
 void DeadReckoning::advance_locked(std::chrono::steady_clock::time_point now) {
-  if (now > until_ || (still_moving_ && !still_moving_())) target_[0] = target_[1] = 0;
-  const double step = 0.005;
-  double left = std::chrono::duration<double>(now - last_).count();
-  last_ = now;
-  while (left > 1e-9) {
-    const double dt = std::min(step, left);
-    left -= dt;
-    const double dv = spec_.accel_m_s2 * dt;
-    for (int s = 0; s < 2; ++s) v_[s] += std::clamp(target_[s] - v_[s], -dv, dv);
-    const double v = (v_[0] + v_[1]) / 2, w = (v_[1] - v_[0]) / spec_.track_m;
-    const double mid = pose_.heading + w * dt / 2;
-    pose_.x += v * dt * std::cos(mid);
-    pose_.y += v * dt * std::sin(mid);
-    pose_.heading = wrap_angle(pose_.heading + w * dt);
+  if (still_moving_ && !still_moving_()) target_[0] = target_[1] = 0;  // the base stopped
+  auto integrate = [this](double seconds) {
+    const double step = 0.005;
+    while (seconds > 1e-9) {
+      const double dt = std::min(step, seconds);
+      seconds -= dt;
+      const double dv = spec_.accel_m_s2 * dt;
+      for (int s = 0; s < 2; ++s) v_[s] += std::clamp(target_[s] - v_[s], -dv, dv);
+      const double v = (v_[0] + v_[1]) / 2, w = (v_[1] - v_[0]) / spec_.track_m;
+      const double mid = pose_.heading + w * dt / 2;
+      pose_.x += v * dt * std::cos(mid);
+      pose_.y += v * dt * std::sin(mid);
+      pose_.heading = wrap_angle(pose_.heading + w * dt);
+    }
+  };
+  if (now <= last_) return;
+  // The timed move ends at until_: driven up to then, coasting to a stop after.
+  if (until_ > last_ && until_ < now) {
+    integrate(std::chrono::duration<double>(until_ - last_).count());
+    last_ = until_;
   }
+  if (now >= until_) target_[0] = target_[1] = 0;
+  integrate(std::chrono::duration<double>(now - last_).count());
+  last_ = now;
 }
 
 void DeadReckoning::move(devices::Direction direction, std::uint8_t speed,

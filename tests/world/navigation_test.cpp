@@ -2,6 +2,7 @@
 // navigator drives there on odometry without touching anything; a blocked door is named.
 #include <doctest/doctest.h>
 
+#include "navigation/dead_reckoning.h"
 #include "navigation/navigator.h"
 #include "navigation/planner.h"
 #include "sim/sim_runner.h"
@@ -150,4 +151,30 @@ TEST_CASE("a box the map does not show: the sonar sees it, the robot re-plans ar
     CHECK(s.collisions() == 0);
     CHECK(marvin::navigation::distance(s.pose().position(), {5, 2}) < 0.25);
   });
+}
+
+TEST_CASE("dead reckoning of the commands sent follows the simulated base it drives") {
+  auto w = home();
+  const marvin::navigation::Pose start = w.robot.start;
+  marvin::sim::SimOptions exact;
+  exact.odometry_noise = 0;
+  marvin::sim::SimRunner base(w, exact, 1.0);
+  auto now = std::chrono::steady_clock::time_point{};
+  marvin::navigation::DeadReckoning dr(base, {0.4, 0.25, 1.0}, start, {}, [&] { return now; });
+  auto run = [&](int ms) {
+    base.advance(std::chrono::milliseconds(ms));
+    now += std::chrono::milliseconds(ms);
+  };
+  dr.move(marvin::devices::Direction::kForward, 200, std::chrono::milliseconds(1500));
+  run(2000);
+  dr.move(marvin::devices::Direction::kLeft, 90, std::chrono::milliseconds(700));
+  run(1000);
+  dr.move(marvin::devices::Direction::kForward, 120, std::chrono::milliseconds(800));
+  run(400);
+  dr.stop();
+  run(600);
+  const auto truth = base.true_pose(), guess = dr.pose();
+  CHECK(marvin::navigation::distance(truth.position(), start.position()) > 0.5);
+  CHECK(marvin::navigation::distance(truth.position(), guess.position()) < 0.02);
+  CHECK(std::fabs(marvin::navigation::wrap_angle(truth.heading - guess.heading)) < 0.03);
 }
