@@ -49,7 +49,7 @@ class SimRunner : public devices::Body {
   bool wait(std::chrono::milliseconds ms, const std::function<bool()>& cancelled);
   double speed() const { return speed_; }
   // The world's floor plan (what navigation is given).
-  const navigation::FloorMap& inspect_world() const { return sim_.world().map; }
+  const navigation::FloorMap& floor_map() const { return sim_.world().map; }
 
   // Runs `f` with the simulator locked (pictures, tests).
   void inspect(const std::function<void(const Simulator&)>& f) const;

@@ -21,7 +21,7 @@ SimHome::SimHome(const SimHomeOptions& options, std::function<void(std::string_v
   navigation::NavigatorOptions nav;
   nav.time_scale = runner_->speed();
   navigator_ = std::make_unique<navigation::Navigator>(
-      runner_->inspect_world(), *runner_, [r = runner_.get()] { return r->odometry(); },
+      runner_->floor_map(), *runner_, [r = runner_.get()] { return r->odometry(); },
       [r = runner_.get()] { return r->sim_scan(); }, [r = runner_.get()] { return r->now_ms(); },
       nav);
   runner_->start();

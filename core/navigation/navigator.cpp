@@ -70,7 +70,7 @@ GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
     if (!path) {
       body_.stop();
       result.outcome = GoResult::Outcome::kGaveUp;
-      result.reason = blocked_reason(*target, from);
+      result.reason = blocked_reason(*target);
       return result;
     }
     {
@@ -97,7 +97,7 @@ GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
   }
   body_.stop();
   result.outcome = GoResult::Outcome::kGaveUp;
-  result.reason = blocked_reason(*target, pose_().position());
+  result.reason = blocked_reason(*target);
   return result;
 }
 
@@ -110,7 +110,7 @@ bool Navigator::leg_free(Vec2 from, Vec2 to) const {
   return true;
 }
 
-std::string Navigator::blocked_reason(const Target& target, Vec2 from) {
+std::string Navigator::blocked_reason(const Target& target) {
   const std::string where = with_the(target.name);
   if (!grid_.has_obstacles()) return "I can't find a way to " + where;
   // Without what the sonar found there is a way: name the door nearest to the obstacles.
@@ -127,7 +127,6 @@ std::string Navigator::blocked_reason(const Target& target, Vec2 from) {
       }
     }
   }
-  (void)from;
   if (nearest) return with_the(nearest->name) + " is blocked";
   return "something is in the way to " + where;
 }

@@ -69,7 +69,7 @@ class Navigator : public GoingPlaces {
  private:
   enum class Follow { kArrived, kBlocked, kCancelled, kTimeOut };
   Follow follow(const std::vector<Vec2>& path, const WaitFn& wait, std::int64_t deadline_ms);
-  std::string blocked_reason(const Target& target, Vec2 from);
+  std::string blocked_reason(const Target& target);
   bool leg_free(Vec2 from, Vec2 to) const;
 
   FloorMap map_;

@@ -21,7 +21,7 @@ marvin::sim::World home() { return marvin::sim::load_world(marvin::sim::default_
 struct Rig {
   explicit Rig(marvin::sim::World world)
       : runner(std::move(world), marvin::sim::SimOptions{}, 1.0),
-        nav(runner.inspect_world(), runner, [this] { return runner.odometry(); },
+        nav(runner.floor_map(), runner, [this] { return runner.odometry(); },
             [this] { return runner.sim_scan(); }, [this] { return runner.now_ms(); }) {}
   GoResult go(const std::string& where) {
     return nav.go_to(where, [this](std::chrono::milliseconds ms) {
