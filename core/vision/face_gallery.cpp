@@ -41,8 +41,10 @@ std::int64_t FaceGallery::enroll(const std::string& name,
     }
   }
   std::int64_t id;
+  std::string stored_name = name;
   if (auto p = find(name)) {
     id = p->id;
+    stored_name = p->name;
   } else {
     data::Person person;
     person.name = name;
@@ -50,7 +52,7 @@ std::int64_t FaceGallery::enroll(const std::string& name,
   }
   for (const auto& e : embeddings) store_.add_face_embedding(id, kFaceModelId, e);
   store_.log_event("face_enrolled", who,
-                   name + ": " + std::to_string(embeddings.size()) + " face embedding(s)");
+                   stored_name + ": " + std::to_string(embeddings.size()) + " face embedding(s)");
   return id;
 }
 

@@ -43,7 +43,11 @@ class Reader {
 
 TensorMap read_tensor_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ModelError("model " + path.string() + ": cannot open");
+  if (!in) {
+    throw ModelError("model " + path.string() +
+                     ": cannot open (missing?): run scripts/setup, then build, to fetch and convert "
+                     "the models");
+  }
   Reader r(path, std::string(std::istreambuf_iterator<char>(in), {}));
   char magic[8];
   r.take(magic, 8, "the file header");
