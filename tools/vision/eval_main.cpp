@@ -6,6 +6,7 @@
 //       the nearest enrolled embedding is theirs; accepted: also below the threshold), and
 //       every photo of the other half, never enrolled, is an impostor: a false accept when
 //       its nearest embedding is below the threshold. Prints a threshold sweep too.
+//       --enrol-second-half enrols the second half instead (the other split).
 //   marvin-vision-eval detect IMAGE... [--detector D]
 //       The faces found in each image (box, score).
 //   marvin-vision-eval chips OUT_DIR IMAGE...
@@ -25,6 +26,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "vision/cameras.h"
+#include "vision/face_gallery.h"
 #include "vision/face_pipeline.h"
 
 namespace fs = std::filesystem;
@@ -36,7 +38,8 @@ struct Args {
   std::vector<std::string> positional;
   int enrol = 3;
   std::string detector = "blazeface-front";
-  double threshold = 0.36;
+  double threshold = kDefaultFaceThreshold;
+  bool second_half = false;
   float margin = 1.25f;
 };
 
@@ -52,6 +55,7 @@ Args parse(int argc, char** argv) {
     else if (s == "--detector") a.detector = value();
     else if (s == "--threshold") a.threshold = std::stod(value());
     else if (s == "--margin") a.margin = std::stof(value());
+    else if (s == "--enrol-second-half") a.second_half = true;
     else a.positional.push_back(s);
   }
   return a;
@@ -106,7 +110,8 @@ int faces(const Args& a) {
     for (std::size_t i = 0; i < files.size(); ++i) {
       ++photos;
       Entry e{p, embed(pipeline, files[i], a.margin, no_face)};
-      if (p >= enrolled_people) impostor.push_back(std::move(e));
+      const bool enrolled = a.second_half ? p >= people.size() - enrolled_people : p < enrolled_people;
+      if (!enrolled) impostor.push_back(std::move(e));
       else if (i < static_cast<std::size_t>(a.enrol)) gallery.push_back(std::move(e));
       else genuine.push_back(std::move(e));
     }
@@ -147,7 +152,7 @@ int faces(const Args& a) {
   std::printf("at threshold %.3f (squared L2): true accepts %.1f%%, false accepts %.1f%%\n",
               a.threshold, ta, fa);
   std::printf("sweep: threshold  true-accept%%  false-accept%%\n");
-  for (double t = 0.20; t <= 0.601; t += 0.04) {
+  for (double t = 0.10; t <= 0.401; t += 0.02) {
     const auto [x, y] = rates(t);
     std::printf("       %.2f       %5.1f         %5.1f\n", t, x, y);
   }
