@@ -3,6 +3,7 @@
 #pragma once
 
 #include <deque>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,7 +14,7 @@
 
 namespace marvin::testing {
 
-struct MockRobot::Impl : devices::Body, skills::User {
+struct MockRobot::Impl : devices::Body, skills::User, skills::Eyes {
   Impl(std::string skill_id, std::vector<std::string> permissions);
 
   // devices::Body
@@ -28,7 +29,17 @@ struct MockRobot::Impl : devices::Body, skills::User {
   void say(std::string_view text) override;
   std::optional<std::string> ask(std::string_view question) override;
 
+  // skills::Eyes: the scripted camera
+  std::string look_json() override;
+  std::string capture_photo(const std::string& skill_id) override;
+  int enroll_face(const std::string& name, int frames, const std::string& who) override;
+  bool forget_face(const std::string& name, const std::string& who) override;
+
   skills::InMemoryPersonalData data;
+  nlohmann::json view;
+  std::string camera_failure;
+  std::vector<std::string> enrolled;
+  int photos = 0;
   skills::HostServices services;
   std::unique_ptr<skills::SkillContext> context;
   std::string skill_id;
