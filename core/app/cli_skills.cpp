@@ -39,6 +39,7 @@ struct RunOptions {
   bool in_memory = false;
   bool verbose = false;
   std::string mcu_tty;
+  std::string camera;
   VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
 };
 
@@ -52,6 +53,8 @@ HostOptions host_options(const RunOptions& o) {
   h.in_memory_data = o.in_memory;
   h.data_dir = o.data_dir;
   h.mcu_tty = o.mcu_tty;
+  // --sim without --camera looks at the demo photos scripts/setup fetched (none: no camera).
+  h.camera = o.camera.empty() && o.sim ? default_sim_camera() : o.camera;
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
     try {
@@ -198,6 +201,9 @@ void install_skill_platform_commands(CLI::App& root) {
   run->add_option("--mcu-tty", options->mcu_tty,
                   "Also drive the base through this serial tty: the MCU, or the --link path "
                   "of a running marvin-mcu-sim");
+  run->add_option("--camera", options->camera,
+                  "The camera skills look through: device:/dev/video0, device:0, folder:DIR or "
+                  "video:FILE (--sim default: the demo photos of scripts/setup)");
   add_skill_options(*run, *options);
   add_voice_run_options(*run, options->voice);
   run->callback([options] { run_sim(*options); });

@@ -76,7 +76,14 @@ struct HostOptions {
   // The store's installed skills (app/installed_skills.h), loaded after `skills_dirs` when
   // the directory exists; no error when it does not. Empty: none.
   std::filesystem::path installed_skills_dir;
+  // The camera skills look through (Robot API 1.2; vision/cameras.h: "folder:DIR",
+  // "video:FILE", "device:/dev/video0"). Empty: no camera (vision_* are unavailable).
+  std::string camera;
 };
+
+// The folder camera `marvin run --sim` uses when no --camera is given: the demo photos
+// scripts/setup fetched (empty if they are not there).
+std::string default_sim_camera();
 
 // Where this build put its built-in skills (<build>/skills).
 std::filesystem::path builtin_skills_dir();
@@ -137,6 +144,7 @@ class Host {
   std::unique_ptr<data::SqliteStore> store_;
   std::unique_ptr<data::Clock> clock_;
   std::unique_ptr<data::PersonalData> data_;  // notifies the scheduler of reminder changes
+  std::unique_ptr<skills::Eyes> eyes_;        // with a camera
   struct Reminders;                           // the Scheduler and its io_context thread
   std::unique_ptr<Reminders> reminders_;
   skills::HostServices services_;
