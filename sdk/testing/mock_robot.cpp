@@ -47,49 +47,6 @@ void MockRobot::Impl::set_light(devices::Light light) {
 
 void MockRobot::Impl::say(std::string_view text) { said.emplace_back(text); }
 
-std::string MockRobot::Impl::look_json() {
-  if (!camera_failure.empty()) throw skills::EyesUnavailable(camera_failure);
-  return view.dump();
-}
-
-std::string MockRobot::Impl::capture_photo(const std::string& id) {
-  if (!camera_failure.empty()) throw skills::EyesUnavailable(camera_failure);
-  actions.push_back("capture_photo");
-  return "/mock/" + id + "/photo-" + std::to_string(++photos) + ".jpg";
-}
-
-int MockRobot::Impl::enroll_face(const std::string& name, int frames, const std::string&) {
-  if (!camera_failure.empty()) throw skills::EyesUnavailable(camera_failure);
-  nlohmann::json* unnamed = nullptr;
-  int count = 0;
-  for (auto& f : view["faces"]) {
-    ++count;
-    if (f.value("name", "").empty()) unnamed = &f;
-  }
-  if (count != 1 || unnamed == nullptr) {
-    throw skills::NoSingleFace(count == 0 ? "no face in view" :
-                               std::to_string(count) + " faces in view; one at a time please",
-                               count == 1 ? 2 : count);
-  }
-  (*unnamed)["name"] = name;
-  enrolled.erase(std::remove(enrolled.begin(), enrolled.end(), name), enrolled.end());
-  enrolled.push_back(name);
-  actions.push_back("enroll_face " + name + " frames=" + std::to_string(frames));
-  return frames;
-}
-
-bool MockRobot::Impl::forget_face(const std::string& name, const std::string&) {
-  if (!camera_failure.empty()) throw skills::EyesUnavailable(camera_failure);
-  auto it = std::find(enrolled.begin(), enrolled.end(), name);
-  if (it == enrolled.end()) return false;
-  enrolled.erase(it);
-  for (auto& f : view["faces"]) {
-    if (f.value("name", "") == name) f["name"] = "";
-  }
-  actions.push_back("forget_face " + name);
-  return true;
-}
-
 std::optional<std::string> MockRobot::Impl::ask(std::string_view question) {
   said.emplace_back(question);
   asked.emplace_back(question);
@@ -134,16 +91,14 @@ std::int64_t MockRobot::add_reminder(const std::string& title, const std::string
 }
 
 void MockRobot::set_camera_view(const std::string& seen_json) {
-  impl_->view = nlohmann::json::parse(seen_json);
-  if (!impl_->view.contains("faces")) impl_->view["faces"] = nlohmann::json::array();
-  if (!impl_->view.contains("objects")) impl_->view["objects"] = nlohmann::json::array();
-  impl_->services.eyes = impl_.get();
+  impl_->eyes.set_view(seen_json);
+  impl_->services.eyes = &impl_->eyes;
 }
 void MockRobot::set_camera_failure(std::string message) {
-  impl_->camera_failure = std::move(message);
-  impl_->services.eyes = impl_.get();
+  impl_->eyes.set_failure(std::move(message));
+  impl_->services.eyes = &impl_->eyes;
 }
-std::vector<std::string> MockRobot::enrolled_faces() const { return impl_->enrolled; }
+std::vector<std::string> MockRobot::enrolled_faces() const { return impl_->eyes.enrolled(); }
 
 void MockRobot::set_last_fired(std::optional<std::int64_t> reminder_id) {
   impl_->last_fired = reminder_id;

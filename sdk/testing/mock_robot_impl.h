@@ -3,7 +3,6 @@
 #pragma once
 
 #include <deque>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,10 +10,11 @@
 #include "marvin/testing/mock_robot.hpp"
 #include "skills/host_api.h"
 #include "skills/in_memory_personal_data.h"
+#include "skills/scripted_eyes.h"
 
 namespace marvin::testing {
 
-struct MockRobot::Impl : devices::Body, skills::User, skills::Eyes {
+struct MockRobot::Impl : devices::Body, skills::User {
   Impl(std::string skill_id, std::vector<std::string> permissions);
 
   // devices::Body
@@ -29,17 +29,8 @@ struct MockRobot::Impl : devices::Body, skills::User, skills::Eyes {
   void say(std::string_view text) override;
   std::optional<std::string> ask(std::string_view question) override;
 
-  // skills::Eyes: the scripted camera
-  std::string look_json() override;
-  std::string capture_photo(const std::string& skill_id) override;
-  int enroll_face(const std::string& name, int frames, const std::string& who) override;
-  bool forget_face(const std::string& name, const std::string& who) override;
-
   skills::InMemoryPersonalData data;
-  nlohmann::json view;
-  std::string camera_failure;
-  std::vector<std::string> enrolled;
-  int photos = 0;
+  skills::ScriptedEyes eyes{[this](std::string action) { actions.push_back(std::move(action)); }};
   skills::HostServices services;
   std::unique_ptr<skills::SkillContext> context;
   std::string skill_id;

@@ -56,7 +56,8 @@ TEST_CASE("the scripted camera: look, enrol the one face, look again, forget") {
 
 TEST_CASE("enrolment needs the faces permission, one face and sane arguments; nothing changes otherwise") {
   marvin::testing::MockRobot mock("faces", {"camera"});
-  mock.set_camera_view(R"({"faces":[{"name":"","box":[0,0,10,10]},{"name":"","box":[50,0,10,10]}]})");
+  mock.set_camera_view(
+      R"({"faces":[{"name":"","box":[0,0,10,10]},{"name":"","box":[50,0,10,10]}]})");
   marvin::Robot robot(mock.api(), mock.host());
   const auto denied = error_of([&] { robot.vision_enroll_face("Anna", 3); });
   CHECK(denied.status() == MARVIN_ERR_PERMISSION);
