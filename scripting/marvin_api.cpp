@@ -12,6 +12,8 @@
 
 #include <lua.hpp>
 
+#include <cstddef>
+
 #include "scripting/lua_json.h"
 #include "scripting/skill_context.h"
 
@@ -471,6 +473,65 @@ int l_storage_set(lua_State* L) {
   return 0;
 }
 
+// --- vision (Robot API 1.2) ------------------------------------------------------------------------
+
+// A 1.2 slot exists in the host's table (an older host's table ends before it).
+#define MARVIN_HAS_SLOT(ctx, member)                                                 \
+  ((ctx)->api->struct_size >= offsetof(marvin_robot_api, member) + sizeof(void*) && \
+   (ctx)->api->member != nullptr)
+
+int l_vision_look(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "camera", "vision.look");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, vision_look), "vision.look");
+  const marvin_status status = ctx->call_text(
+      [ctx](marvin_text_out* out) { return ctx->api->vision_look(ctx->host, out); });
+  check(L, ctx, "vision.look", status);
+  push_json_text(L, ctx, "vision.look");
+  return 1;
+}
+
+int l_vision_photo(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "camera", "vision.photo");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, vision_capture_photo), "vision.photo");
+  const marvin_status status = ctx->call_text(
+      [ctx](marvin_text_out* out) { return ctx->api->vision_capture_photo(ctx->host, out); });
+  check(L, ctx, "vision.photo", status);
+  lua_pushlstring(L, ctx->text.data(), ctx->text.size());
+  return 1;
+}
+
+int l_vision_enroll(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* name = luaL_checkstring(L, 1);
+  const lua_Integer frames = luaL_optinteger(L, 2, 5);
+  luaL_argcheck(L, frames >= 1 && frames <= 20, 2, "frames must be 1..20");
+  require_permission(L, ctx, "faces", "vision.enroll");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, vision_enroll_face), "vision.enroll");
+  const marvin_status status = ctx->call_text([ctx, name, frames](marvin_text_out* out) {
+    return ctx->api->vision_enroll_face(ctx->host, name, static_cast<uint32_t>(frames), out);
+  });
+  check(L, ctx, "vision.enroll", status);
+  push_json_text(L, ctx, "vision.enroll");
+  return 1;
+}
+
+int l_vision_forget(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* name = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "faces", "vision.forget");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, vision_forget_face), "vision.forget");
+  const marvin_status status = ctx->api->vision_forget_face(ctx->host, name);
+  if (status == MARVIN_ERR_NOT_FOUND) {
+    lua_pushboolean(L, 0);
+    return 1;
+  }
+  check(L, ctx, "vision.forget", status);
+  lua_pushboolean(L, 1);
+  return 1;
+}
+
 void set_functions(lua_State* L, const luaL_Reg* functions) { luaL_setfuncs(L, functions, 0); }
 
 }  // namespace
@@ -516,6 +577,16 @@ void install_marvin_api(lua_State* L, SkillContext* ctx) {
   set_functions(L, storage);
   Sandbox::make_read_only(L, "marvin.storage");
   lua_setfield(L, -2, "storage");
+
+  lua_createtable(L, 0, 4);
+  static const luaL_Reg vision[] = {{"look", l_vision_look},
+                                    {"photo", l_vision_photo},
+                                    {"enroll", l_vision_enroll},
+                                    {"forget", l_vision_forget},
+                                    {nullptr, nullptr}};
+  set_functions(L, vision);
+  Sandbox::make_read_only(L, "marvin.vision");
+  lua_setfield(L, -2, "vision");
 
   Sandbox::make_read_only(L, "marvin");
   Sandbox::from(L)->set_protected_global(L, "marvin");

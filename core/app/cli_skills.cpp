@@ -46,6 +46,7 @@ struct RunOptions {
   double speed = 1;
   std::uint64_t seed = 1;
   std::string show;
+  std::string camera;
   VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
 };
 
@@ -69,6 +70,8 @@ HostOptions host_options(const RunOptions& o) {
     h.sim_seed = o.seed;
     h.show = o.show;
   }
+  // --sim without --camera looks at the demo photos scripts/setup fetched (none: no camera).
+  h.camera = o.camera.empty() && o.sim ? default_sim_camera() : o.camera;
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
     try {
@@ -226,6 +229,9 @@ void install_skill_platform_commands(CLI::App& root) {
   run->add_option("--seed", options->seed, "With --sim: the simulation's random seed (default 1)");
   run->add_option("--show", options->show,
                   "With --sim: keep this PNG picture of the floor plan and the robot up to date");
+  run->add_option("--camera", options->camera,
+                  "The camera skills look through: device:/dev/video0, device:0, folder:DIR or "
+                  "video:FILE (--sim default: the demo photos of scripts/setup)");
   add_skill_options(*run, *options);
   add_voice_run_options(*run, options->voice);
   run->callback([options] { run_sim(*options); });

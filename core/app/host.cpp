@@ -19,6 +19,7 @@
 #include "app/skill_watcher.h"
 #include "common/log.h"
 #include "store/installer.h"
+#include "vision/vision_eyes.h"
 #ifdef MARVIN_HAVE_LUA
 #include "scripting/lua_runtime.h"
 #endif
@@ -196,6 +197,12 @@ class MirroredBody : public devices::Body {
 
 }  // namespace
 
+std::string default_sim_camera() {
+  std::error_code ec;
+  const std::filesystem::path photos = MARVIN_SIM_CAMERA_DIR;
+  return std::filesystem::is_directory(photos, ec) ? "folder:" + photos.string() : "";
+}
+
 Host::Host(HostOptions options, std::function<void(std::string_view)> write_line)
     : options_(std::move(options)), console_(std::move(write_line)), body_(console_) {
   if (options_.fixed_now_ms) {
@@ -252,6 +259,11 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
     mirrored_body_ = std::make_unique<MirroredBody>(body_, sim_home_->body());
     services_.body = mirrored_body_.get();
     services_.going_places = &sim_home_->navigator();
+  }
+  if (!options_.camera.empty()) {
+    const auto data_dir = store_ ? store_->path().parent_path() : std::filesystem::temp_directory_path();
+    eyes_ = std::make_unique<vision::VisionEyes>(options_.camera, store_.get(), data_dir / "photos");
+    services_.eyes = eyes_.get();
   }
   services_.time_zone = options_.time_zone.empty() ? system_time_zone() : options_.time_zone;
   if (options_.fixed_now_ms) {

@@ -86,7 +86,14 @@ struct HostOptions {
   double sim_speed = 1;       // simulated seconds per second
   std::uint64_t sim_seed = 1;
   std::filesystem::path show;  // keep this PNG of the floor plan up to date
+  // The camera skills look through (Robot API 1.2; vision/cameras.h: "folder:DIR",
+  // "video:FILE", "device:/dev/video0"). Empty: no camera (vision_* are unavailable).
+  std::string camera;
 };
+
+// The folder camera `marvin run --sim` uses when no --camera is given: the demo photos
+// scripts/setup fetched (empty if they are not there).
+std::string default_sim_camera();
 
 // Where this build put its built-in skills (<build>/skills).
 std::filesystem::path builtin_skills_dir();
@@ -151,6 +158,7 @@ class Host {
   std::unique_ptr<data::SqliteStore> store_;
   std::unique_ptr<data::Clock> clock_;
   std::unique_ptr<data::PersonalData> data_;  // notifies the scheduler of reminder changes
+  std::unique_ptr<skills::Eyes> eyes_;        // with a camera
   struct Reminders;                           // the Scheduler and its io_context thread
   std::unique_ptr<Reminders> reminders_;
   skills::HostServices services_;

@@ -525,6 +525,71 @@ marvin_status api_smarthome_set(marvin_host* host, const char*, const char*) {
       host, [&](SkillContext& c) { return unavailable(c, "smarthome", "smart home control"); });
 }
 
+// --- since API 1.2: seeing -------------------------------------------------------------
+
+template <class F>
+marvin_status with_eyes(SkillContext& c, const char* permission, F&& body) {
+  MARVIN_TRY(need(c, permission));
+  MARVIN_TRY(need_service(c, c.services().eyes, "camera"));
+  try {
+    return body(*c.services().eyes);
+  } catch (const EyesUnavailable& e) {
+    return fail(c, MARVIN_ERR_UNAVAILABLE, e.what());
+  } catch (const NoSingleFace& e) {
+    return fail(c, e.faces() == 0 ? MARVIN_ERR_NOT_FOUND : MARVIN_ERR_INVALID, e.what());
+  }
+}
+
+marvin_status api_vision_look(marvin_host* host, marvin_text_out* seen_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_out(c, seen_json));
+    return with_eyes(c, "camera", [&](Eyes& eyes) {
+      marvin_status s = write_text(seen_json, eyes.look_json());
+      if (s == MARVIN_ERR_TRUNCATED) c.last_error = "what the camera sees did not fit the buffer";
+      return s;
+    });
+  });
+}
+
+marvin_status api_vision_capture_photo(marvin_host* host, marvin_text_out* photo_path) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_out(c, photo_path));
+    return with_eyes(c, "camera", [&](Eyes& eyes) {
+      return write_text(photo_path, eyes.capture_photo(c.skill_id()));
+    });
+  });
+}
+
+marvin_status api_vision_enroll_face(marvin_host* host, const char* name, uint32_t frames,
+                                     marvin_text_out* result_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, name, "name"));
+    if (*name == '\0') return fail(c, MARVIN_ERR_INVALID, "name is empty");
+    if (frames < 1 || frames > 20) {
+      return fail(c, MARVIN_ERR_INVALID,
+                  "frames is " + std::to_string(frames) + ", expected 1 to 20");
+    }
+    return with_eyes(c, "faces", [&](Eyes& eyes) {
+      const int used = eyes.enroll_face(name, static_cast<int>(frames), "skill:" + c.skill_id());
+      if (!result_json) return MARVIN_OK;
+      return write_text(result_json, json{{"name", name}, {"frames_used", used}}.dump());
+    });
+  });
+}
+
+marvin_status api_vision_forget_face(marvin_host* host, const char* name) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, name, "name"));
+    return with_eyes(c, "faces", [&](Eyes& eyes) {
+      if (!eyes.forget_face(name, "skill:" + c.skill_id())) {
+        return fail(c, MARVIN_ERR_NOT_FOUND, std::string("nobody called ") + name +
+                                                 " is known by face");
+      }
+      return MARVIN_OK;
+    });
+  });
+}
+
 }  // namespace
 
 std::int64_t system_now_ms() {
@@ -605,6 +670,10 @@ const marvin_robot_api* host_robot_api() {
     a.schedule_snooze = api_schedule_snooze;
     a.schedule_done = api_schedule_done;
     a.schedule_last_fired = api_schedule_last_fired;
+    a.vision_look = api_vision_look;
+    a.vision_capture_photo = api_vision_capture_photo;
+    a.vision_enroll_face = api_vision_enroll_face;
+    a.vision_forget_face = api_vision_forget_face;
     a.go_to = api_go_to;
     a.go_stop = api_go_stop;
     a.where_am_i = api_where_am_i;

@@ -141,6 +141,16 @@ std::int64_t MockRobot::add_reminder(const std::string& title, const std::string
   return impl_->data.add_reminder(r);
 }
 
+void MockRobot::set_camera_view(const std::string& seen_json) {
+  impl_->eyes.set_view(seen_json);
+  impl_->services.eyes = &impl_->eyes;
+}
+void MockRobot::set_camera_failure(std::string message) {
+  impl_->eyes.set_failure(std::move(message));
+  impl_->services.eyes = &impl_->eyes;
+}
+std::vector<std::string> MockRobot::enrolled_faces() const { return impl_->eyes.enrolled(); }
+
 void MockRobot::set_last_fired(std::optional<std::int64_t> reminder_id) {
   impl_->last_fired = reminder_id;
 }

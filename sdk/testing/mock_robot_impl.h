@@ -11,6 +11,7 @@
 #include "marvin/testing/mock_robot.hpp"
 #include "skills/host_api.h"
 #include "skills/in_memory_personal_data.h"
+#include "skills/scripted_eyes.h"
 
 namespace marvin::testing {
 
@@ -34,6 +35,7 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   std::optional<std::string> ask(std::string_view question) override;
 
   skills::InMemoryPersonalData data;
+  skills::ScriptedEyes eyes{[this](std::string action) { actions.push_back(std::move(action)); }};
   skills::HostServices services;
   std::unique_ptr<skills::SkillContext> context;
   std::string skill_id;

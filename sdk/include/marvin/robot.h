@@ -14,6 +14,8 @@
  *   "schedule"  schedule_* (schedule_snooze, schedule_done, schedule_last_fired: API 1.1)
  *   "contacts"  contacts_*, people_list
  *   "storage"   storage_*             (a skill only ever sees its own keys)
+ *   "camera"    vision_look, vision_capture_photo (API 1.2)
+ *   "faces"     vision_enroll_face, vision_forget_face (API 1.2): who the robot knows
  *   "vision", "phone", "smarthome"    the capabilities of later releases
  * Calls without the permission fail with MARVIN_ERR_PERMISSION and change nothing.
  *
@@ -150,10 +152,34 @@ typedef struct marvin_robot_api {
    * MARVIN_ERR_NOT_FOUND if no reminder has fired since the host started. */
   marvin_status (*schedule_last_fired)(marvin_host* host, marvin_text_out* reminder_json);
 
+  /* --- since API 1.2: seeing (the camera, faces and objects) -------------------------
+   * Check struct_size (or minor) before calling these on an older host.
+   * A robot without a working camera answers MARVIN_ERR_UNAVAILABLE with a sentence
+   * naming the camera and what went wrong. */
+  /* What the camera sees now, as JSON:
+   *   {"width": 640, "height": 480,
+   *    "faces":   [{"name": "Anna" | "" (someone unknown), "box": [x, y, w, h],
+   *                 "distance": 0.12 (squared L2 to the nearest enrolled face, -1: none)}],
+   *    "objects": [{"label": "cup", "box": [x, y, w, h], "score": 0.8}]}
+   * Boxes are in pixels of that frame. Permission "camera". */
+  marvin_status (*vision_look)(marvin_host* host, marvin_text_out* seen_json);
+  /* Takes a photo (JPEG) and writes the file's path. Photos are only kept when the user
+   * asked for one; the skill owns the file. Permission "camera". */
+  marvin_status (*vision_capture_photo)(marvin_host* host, marvin_text_out* photo_path);
+  /* "This is Anna": learns the face in front of the camera from up to `frames` frames
+   * (1..20) and writes {"name", "frames_used"}. Exactly one face must be in view:
+   * MARVIN_ERR_NOT_FOUND when there is none, MARVIN_ERR_INVALID when there are several.
+   * Consent: a skill calls this only after the owner confirmed. Permission "faces". */
+  marvin_status (*vision_enroll_face)(marvin_host* host, const char* name, uint32_t frames,
+                                      marvin_text_out* result_json);
+  /* "Forget Anna's face": removes the person and every embedding of their face.
+   * MARVIN_ERR_NOT_FOUND if nobody of that name is enrolled. Permission "faces". */
+  marvin_status (*vision_forget_face)(marvin_host* host, const char* name);
+
   /* --- since API 1.2: going places -----------------------------------------------
    * The robot plans a path on its floor plan and drives it, stopping and re-planning
-   * when the sonar sees something in the way. A skill built against 1.2 running on an
-   * older host must check struct_size (or minor) before calling these. */
+   * when the sonar sees something in the way. Check struct_size (or minor) before
+   * calling these on an older host. */
   /* Drives to `place` and returns once there: a room ("kitchen"), a named place ("the
    * sofa"), a person's last known spot ("Anna") or "me" (the robot's owner). Case and a
    * leading "the" do not matter. MARVIN_ERR_NOT_FOUND for a place the map does not know;

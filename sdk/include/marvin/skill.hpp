@@ -185,6 +185,29 @@ class Robot {
     return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
   }
 
+  // --- seeing (API 1.2; see marvin/robot.h) ---
+  // What the camera sees now: {"width", "height", "faces": [...], "objects": [...]}.
+  nlohmann::json vision_look() {
+    auto call = fn(&marvin_robot_api::vision_look, "vision_look");
+    return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
+  }
+  // Takes a photo; returns the JPEG's path.
+  std::string vision_capture_photo() {
+    auto call = fn(&marvin_robot_api::vision_capture_photo, "vision_capture_photo");
+    return text([&](marvin_text_out* out) { return call(host_, out); });
+  }
+  // Learns the one face in view as `name` from up to `frames` frames: {"name", "frames_used"}.
+  nlohmann::json vision_enroll_face(std::string_view name, std::uint32_t frames = 5) {
+    std::string n = str(name);
+    auto call = fn(&marvin_robot_api::vision_enroll_face, "vision_enroll_face");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, n.c_str(), frames, out); }));
+  }
+  void vision_forget_face(std::string_view name) {
+    std::string n = str(name);
+    check(fn(&marvin_robot_api::vision_forget_face, "vision_forget_face")(host_, n.c_str()));
+  }
+
   // This skill's own key-value storage. storage_get returns nullopt for a missing key.
   std::optional<std::string> storage_get(std::string_view key) {
     std::string k = str(key);

@@ -71,14 +71,22 @@ class MockRobot {
   // As if the robot had just announced reminder `reminder_id` ("Reminder: take my pills"):
   // schedule_last_fired() serves it from now on. std::nullopt: nothing fired (the default).
   void set_last_fired(std::optional<std::int64_t> reminder_id);
+  // What the camera sees from now on (API 1.2): the JSON vision_look returns (see
+  // marvin/robot.h), e.g. {"faces":[{"name":"","box":[100,80,120,120]}],"objects":[]}.
+  // Until this is called the mock robot has no camera (MARVIN_ERR_UNAVAILABLE).
+  // vision_enroll_face names the one face in view; vision_forget_face unnames it.
+  void set_camera_view(const std::string& seen_json);
+  // The camera fails from now on ("unplugged"): vision_* answer MARVIN_ERR_UNAVAILABLE with
+  // `message` as the error sentence, and nothing is enrolled or forgotten.
+  void set_camera_failure(std::string message);
 
   // --- what the skill did ----------------------------------------------------------
   // Every sentence spoken, questions included, in order.
   const std::vector<std::string>& said() const;
   // The questions asked (also in said()).
   const std::vector<std::string>& asked() const;
-  // Body actions in order: "light executing", "move forward speed=120 ms=1500", "stop",
-  // "tilt_head 20".
+  // Body and camera actions in order: "light executing", "move forward speed=120 ms=1500",
+  // "stop", "tilt_head 20", "capture_photo", "enroll_face Anna frames=3", "forget_face Anna".
   const std::vector<std::string>& actions() const;
   // Scripted answers not used yet.
   std::size_t answers_left() const;
@@ -89,6 +97,8 @@ class MockRobot {
   std::optional<std::string> reminder(std::int64_t id) const;
   // The skill's stored value under `key`.
   std::optional<std::string> stored(const std::string& key) const;
+  // People enrolled by face (vision_enroll_face), in order, without the forgotten ones.
+  std::vector<std::string> enrolled_faces() const;
   // Forgets said(), asked() and actions().
   void clear();
 
