@@ -5,8 +5,8 @@
 // the manifest grants, whose storage keys to use, which task to cancel. Calls the
 // manifest does not grant fail with MARVIN_ERR_PERMISSION and a sentence naming the
 // permission and the skill. Schedules, contacts, people and storage are served from
-// PersonalData; light and motion go to the Body; say/ask to the User. Vision, phone and
-// smart home answer MARVIN_ERR_UNAVAILABLE until their issues land.
+// PersonalData; light and motion go to the Body; say/ask to the User. Smart home goes to
+// the SmartHome service; vision and phone answer MARVIN_ERR_UNAVAILABLE until they land.
 //
 // Threading: a context is used by the one thread running its skill, except cancel(),
 // which any thread may call.
@@ -25,6 +25,7 @@
 
 #include "data/personal_data.h"
 #include "devices/body.h"
+#include "skills/smart_home.h"
 #include "skills/user.h"
 
 namespace marvin::skills {
@@ -43,6 +44,9 @@ struct HostServices {
   // The id of the reminder the host announced most recently, if any (schedule_last_fired).
   // Called from skill threads: it must be thread-safe.
   std::function<std::optional<std::int64_t>()> last_fired_reminder;
+  // Smart-home devices over the home's broker (smarthome_*); null: none configured.
+  // Called from skill threads: it must be thread-safe.
+  SmartHome* smarthome = nullptr;
 };
 
 // The system clock in milliseconds since the Unix epoch.

@@ -63,13 +63,24 @@ class MockRobot {
   // schedule_last_fired() serves it from now on. std::nullopt: nothing fired (the default).
   void set_last_fired(std::optional<std::int64_t> reminder_id);
 
+  // Smart home (smarthome_set, smarthome_devices). A device as in smarthome_devices()'s
+  // "devices" ({"id", "name", "room", "type", "dimmable", ...}; "on" false and
+  // "brightness" 100 when left out); it answers every command unless set_device_answers()
+  // says otherwise. The broker is reachable unless set_broker_reachable(false).
+  void add_device(const std::string& device_json);
+  void set_device_answers(const std::string& id, bool answers);
+  void set_broker_reachable(bool reachable);
+  void set_room(const std::string& room);  // where the robot is ("living room" by default)
+  // The device's current state as JSON text; nullopt for an unknown id.
+  std::optional<std::string> device(const std::string& id) const;
+
   // --- what the skill did ----------------------------------------------------------
   // Every sentence spoken, questions included, in order.
   const std::vector<std::string>& said() const;
   // The questions asked (also in said()).
   const std::vector<std::string>& asked() const;
   // Body actions in order: "light executing", "move forward speed=120 ms=1500", "stop",
-  // "tilt_head 20".
+  // "tilt_head 20", and smart-home commands: "smarthome_set <id> {\"on\":true}".
   const std::vector<std::string>& actions() const;
   // Scripted answers not used yet.
   std::size_t answers_left() const;
