@@ -39,8 +39,33 @@ struct RunOptions {
   bool in_memory = false;
   bool verbose = false;
   std::string mcu_tty;
+  std::string mqtt;         // --mqtt HOST:PORT
+  std::string home_config;  // --home-config FILE
   VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
 };
+
+// The smart home: --mqtt (a broker without authentication, e.g. scripts/sim's), else
+// --home-config, else the default config file when it exists; nullopt: none.
+std::optional<home::HomeConfig> home_options(const std::string& mqtt, const std::string& file) {
+  try {
+    if (!mqtt.empty()) {
+      home::HomeConfig c;
+      c.broker = home::broker_from_address(mqtt);
+      return c;
+    }
+    std::optional<std::filesystem::path> path;
+    if (!file.empty()) {
+      path = file;
+    } else if (auto fallback = home::default_home_config_path();
+               fallback && std::filesystem::exists(*fallback)) {
+      path = fallback;
+    }
+    if (!path) return std::nullopt;
+    return home::load_home_config(*path);
+  } catch (const home::ConfigError& e) {
+    throw CliError(e.what(), 2);
+  }
+}
 
 HostOptions host_options(const RunOptions& o) {
   HostOptions h;
@@ -52,6 +77,7 @@ HostOptions host_options(const RunOptions& o) {
   h.in_memory_data = o.in_memory;
   h.data_dir = o.data_dir;
   h.mcu_tty = o.mcu_tty;
+  h.home = home_options(o.mqtt, o.home_config);
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
     try {
@@ -198,6 +224,11 @@ void install_skill_platform_commands(CLI::App& root) {
   run->add_option("--mcu-tty", options->mcu_tty,
                   "Also drive the base through this serial tty: the MCU, or the --link path "
                   "of a running marvin-mcu-sim");
+  run->add_option("--mqtt", options->mqtt,
+                  "Smart home: the home's MQTT broker HOST:PORT (no authentication)");
+  run->add_option("--home-config", options->home_config,
+                  "Smart home: the config file (default: $MARVIN_HOME_CONFIG, else "
+                  "~/.config/marvin/home.json when it exists)");
   add_skill_options(*run, *options);
   add_voice_run_options(*run, options->voice);
   run->callback([options] { run_sim(*options); });

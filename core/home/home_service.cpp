@@ -2,7 +2,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 
 #include "common/log.h"
@@ -58,6 +61,25 @@ HomeService::HomeService(HomeConfig config) : config_(std::move(config)) {
   client_->subscribe(config_.discovery_prefix + "/+/+/+/config");
   client_->subscribe(config_.zigbee2mqtt_base + "/#");
   if (config_.commands) client_->subscribe(topic("command/+"));
+  client_->subscribe(topic("sync"));
+}
+
+bool HomeService::settle(std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  static std::atomic<unsigned> counter{0};
+  // Twice: state topics subscribed after the first round's discovery have their retained
+  // messages delivered before the second round's marker.
+  for (int round = 0; round < 2; ++round) {
+    {
+      std::unique_lock lock(mutex_);
+      if (!changed_.wait_until(lock, deadline, [&] { return up_; })) return false;
+    }
+    const std::string nonce = std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    if (!client_->publish(topic("sync"), nonce, 0, false)) return false;
+    std::unique_lock lock(mutex_);
+    if (!changed_.wait_until(lock, deadline, [&] { return last_sync_ == nonce; })) return false;
+  }
+  return true;
 }
 
 HomeService::~HomeService() { stop(); }
@@ -263,6 +285,14 @@ void HomeService::handle_message(const std::string& t, std::string_view payload,
     } catch (const DiscoveryError& e) {
       ignored(t, e.what());
       return;
+    }
+    changed_.notify_all();
+    return;
+  }
+  if (t == topic("sync")) {
+    {
+      std::lock_guard lock(mutex_);
+      last_sync_ = std::string(payload);
     }
     changed_.notify_all();
     return;

@@ -60,6 +60,10 @@ class HomeService {
   // Waits until `done(devices())` holds; false on timeout.
   bool wait_devices(const std::function<bool(const std::vector<Device>&)>& done,
                     std::chrono::milliseconds timeout) const;
+  // Waits until what the broker had retained for this client (discovery, states) has
+  // arrived: a message sent to itself on marvin/<site>/sync comes back after it. False when
+  // not connected within `timeout`.
+  bool settle(std::chrono::milliseconds timeout);
   // The owner's aliases: alias -> device id or name ("the big lamp" -> "living room lamp").
   void set_aliases(std::map<std::string, std::string> aliases);
 
@@ -115,6 +119,7 @@ class HomeService {
   std::string activity_ = "idle";
   std::function<void(const std::string&, const std::string&)> command_handler_;
   bool up_ = false;
+  std::string last_sync_;  // mutex_
 };
 
 const char* to_string(HomeService::Outcome outcome);

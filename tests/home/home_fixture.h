@@ -73,6 +73,21 @@ class Peer {
     return client_->publish(t, p, 1, retain);
   }
   MqttClient& client() { return *client_; }
+  // Waits for a message on `topic` whose payload contains `part`; its payload.
+  std::optional<std::string> wait_message(const std::string& topic, const std::string& part = "") {
+    std::unique_lock lock(mutex_);
+    std::optional<std::string> found;
+    changed_.wait_for(lock, kWait, [&] {
+      for (const auto& [t, p] : received_) {
+        if (t == topic && p.find(part) != std::string::npos) {
+          found = p;
+          return true;
+        }
+      }
+      return false;
+    });
+    return found;
+  }
 
  private:
   boost::asio::io_context io_;
