@@ -47,8 +47,33 @@ struct RunOptions {
   std::uint64_t seed = 1;
   std::string show;
   std::string camera;
+  std::string mqtt;         // --mqtt HOST:PORT
+  std::string home_config;  // --home-config FILE
   VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
 };
+
+// The smart home: --mqtt (a broker without authentication, e.g. scripts/sim's), else
+// --home-config, else the default config file when it exists; nullopt: none.
+std::optional<home::HomeConfig> home_options(const std::string& mqtt, const std::string& file) {
+  try {
+    if (!mqtt.empty()) {
+      home::HomeConfig c;
+      c.broker = home::broker_from_address(mqtt);
+      return c;
+    }
+    std::optional<std::filesystem::path> path;
+    if (!file.empty()) {
+      path = file;
+    } else if (auto fallback = home::default_home_config_path();
+               fallback && std::filesystem::exists(*fallback)) {
+      path = fallback;
+    }
+    if (!path) return std::nullopt;
+    return home::load_home_config(*path);
+  } catch (const home::ConfigError& e) {
+    throw CliError(e.what(), 2);
+  }
+}
 
 HostOptions host_options(const RunOptions& o) {
   HostOptions h;
@@ -72,6 +97,7 @@ HostOptions host_options(const RunOptions& o) {
   }
   // --sim without --camera looks at the demo photos scripts/setup fetched (none: no camera).
   h.camera = o.camera.empty() && o.sim ? default_sim_camera() : o.camera;
+  h.home = home_options(o.mqtt, o.home_config);
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
     try {
@@ -232,6 +258,11 @@ void install_skill_platform_commands(CLI::App& root) {
   run->add_option("--camera", options->camera,
                   "The camera skills look through: device:/dev/video0, device:0, folder:DIR or "
                   "video:FILE (--sim default: the demo photos of scripts/setup)");
+  run->add_option("--mqtt", options->mqtt,
+                  "Smart home: the home's MQTT broker HOST:PORT (no authentication)");
+  run->add_option("--home-config", options->home_config,
+                  "Smart home: the config file (default: $MARVIN_HOME_CONFIG, else "
+                  "~/.config/marvin/home.json when it exists)");
   add_skill_options(*run, *options);
   add_voice_run_options(*run, options->voice);
   run->callback([options] { run_sim(*options); });

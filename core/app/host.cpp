@@ -9,12 +9,15 @@
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
 #include <iostream>
+#include <map>
 #include <thread>
 
 #include "data/scheduler.h"
 #include "devices/serial_body.h"
 
+#include "app/home_link.h"
 #include "app/installed_skills.h"
+#include "home/home_service.h"
 #include "app/skill_reloader.h"
 #include "app/skill_watcher.h"
 #include "common/log.h"
@@ -274,8 +277,10 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   }
   loop_ = std::make_unique<skills::HostLoop>(
       [this](std::string_view text) {
+        if (home_) home_->publish_activity("speaking");
         console_.line("Marvin: " + std::string(text));
         if (said_) said_(text);
+        if (home_) home_->publish_activity("listening");
       });
   registry_ = std::make_unique<skills::Registry>(services_);
 #ifdef MARVIN_HAVE_LUA
@@ -285,6 +290,7 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   services_.user = manager_.get();
   loop_->attach(*manager_, registry_->interpreter());
   reloader_ = std::make_unique<SkillReloader>(*registry_);
+  if (options_.home) start_home();
   // Skill timers (marvin.after) run on the loop, never while a long task runs.
   loop_->set_timers(skills::HostLoop::Timers{
       [this]() -> std::optional<std::int64_t> {
@@ -313,6 +319,8 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
 Host::~Host() {
   watcher_.reset();    // no reload requests from now on
   manager_.reset();    // joins a running task first
+  home_link_.reset();
+  home_.reset();       // says "offline" on the bus
   reminders_.reset();  // stops the scheduler's thread
   registry_.reset();  // then the skills go
   serial_navigation_.reset();
@@ -335,6 +343,7 @@ void Host::start_scheduler() {
   reminders_->scheduler = std::make_unique<data::Scheduler>(
       reminders_->io, *store_, clock, [this](const data::Firing& firing) {
         reminders_->last_fired.store(firing.reminder.id);
+        publish_event(firing.missed ? "reminder_missed" : "reminder_fired", firing.reminder.title);
         loop_->say(firing.missed ? "You missed a reminder: " + firing.reminder.title
                                  : "Reminder: " + firing.reminder.title);
       });
@@ -352,6 +361,45 @@ void Host::start_scheduler() {
   reminders_->work.emplace(reminders_->io.get_executor());
   reminders_->running.store(true);
   reminders_->thread = std::thread([r = reminders_.get()] { r->io.run(); });
+}
+
+void Host::start_home() {
+  home_ = std::make_unique<home::HomeService>(*options_.home);
+  if (store_) {
+    std::map<std::string, std::string> aliases;
+    for (auto& [alias, device] : store_->device_aliases()) aliases[alias] = device;
+    home_->set_aliases(std::move(aliases));
+  }
+  if (options_.home->commands) {
+    // Only the documented topics reach here (marvin/<site>/command/say|utterance).
+    home_->on_command([this](const std::string& name, const std::string& payload) {
+      if (name == "say") loop_->say(payload);
+      if (name == "utterance") loop_->post(payload);
+    });
+  }
+  home_link_ = std::make_unique<HomeLink>(*home_);
+  services_.smarthome = home_link_.get();
+  home_->start();
+  // Wait for the broker once (what it retained: the devices), so the first request of a
+  // session finds them; the service keeps retrying in the background otherwise.
+  constexpr std::chrono::seconds kBrokerWait{3};
+  const auto& b = options_.home->broker;
+  const std::string where = b.host + ":" + std::to_string(b.port);
+  if (home_->settle(kBrokerWait)) {
+    console_.line("[home: " + std::to_string(home_->devices().size()) + " devices on " + where +
+                  "]");
+  } else {
+    console_.line("[home: broker " + where + " not reachable after " +
+                  std::to_string(kBrokerWait.count()) + " s; still trying]");
+  }
+}
+
+void Host::set_room_hook(std::function<std::string()> hook) {
+  if (home_) home_->set_room_hook(std::move(hook));
+}
+
+void Host::publish_event(const std::string& event_type, const std::string& text) {
+  if (home_) home_->publish_event(event_type, text);
 }
 
 namespace {

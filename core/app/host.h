@@ -17,6 +17,8 @@
 #include <vector>
 
 #include "devices/body.h"
+#include "home/config.h"
+#include "home/home_service.h"
 #include "skills/host_loop.h"
 #include "data/clock.h"
 #include "data/sqlite_store.h"
@@ -30,6 +32,7 @@ class SerialNavigation;
 class SimHome;
 class SkillReloader;
 class SkillWatcher;
+class HomeLink;
 
 // Serialises lines written by several threads (the loop, a long task, the body).
 class Console {
@@ -89,6 +92,9 @@ struct HostOptions {
   // The camera skills look through (Robot API 1.2; vision/cameras.h: "folder:DIR",
   // "video:FILE", "device:/dev/video0"). Empty: no camera (vision_* are unavailable).
   std::string camera;
+  // Smart home over the home's MQTT broker (core/home): devices for the skills, Marvin's
+  // activity and events on the bus. nullopt: no smart home.
+  std::optional<home::HomeConfig> home;
 };
 
 // The folder camera `marvin run --sim` uses when no --camera is given: the demo photos
@@ -146,6 +152,13 @@ class Host {
   // console body); `body` must outlive its use. Before load(), or while nothing runs.
   void set_body(devices::Body& body) { services_.body = &body; }
 
+  // With a smart home: the service (else null), where the robot is (the navigation's hook;
+  // the config's room when unset or it answers ""), and events for the bus
+  // ("intruder_alert", "call", ...; reminders are published by the host itself).
+  home::HomeService* home() { return home_.get(); }
+  void set_room_hook(std::function<std::string()> hook);
+  void publish_event(const std::string& event_type, const std::string& text);
+
  private:
   HostOptions options_;
   Console console_;
@@ -169,6 +182,9 @@ class Host {
   std::vector<std::filesystem::path> watched_skills_dirs() const;  // skills_dirs + installed
   std::unique_ptr<SkillReloader> reloader_;
   std::atomic<bool> reload_requested_{false};
+  std::unique_ptr<home::HomeService> home_;
+  std::unique_ptr<HomeLink> home_link_;
+  void start_home();
   std::unique_ptr<SkillWatcher> watcher_;  // stopped first (declared last)
 };
 

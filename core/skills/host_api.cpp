@@ -520,9 +520,60 @@ marvin_status api_vision_who_is_there(marvin_host* host, marvin_text_out*) {
 marvin_status api_phone_call(marvin_host* host, const char*) {
   return guarded(host, [&](SkillContext& c) { return unavailable(c, "phone", "the phone"); });
 }
-marvin_status api_smarthome_set(marvin_host* host, const char*, const char*) {
-  return guarded(
-      host, [&](SkillContext& c) { return unavailable(c, "smarthome", "smart home control"); });
+marvin_status api_smarthome_set(marvin_host* host, const char* device, const char* state) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "smarthome"));
+    MARVIN_TRY(need_text(c, device, "device"));
+    MARVIN_TRY(need_text(c, state, "state"));
+    MARVIN_TRY(need_service(c, c.services().smarthome, "smart home connection configured"));
+    // "on" and "off" are short for {"on": true} and {"on": false}.
+    json wanted;
+    if (std::string_view(state) == "on") {
+      wanted = json{{"on", true}};
+    } else if (std::string_view(state) == "off") {
+      wanted = json{{"on", false}};
+    } else {
+      marvin_status status = MARVIN_OK;
+      wanted = parse_json_arg(c, state, "state", &status);
+      if (status != MARVIN_OK) return status;
+    }
+    if (!wanted.is_object() || wanted.empty()) {
+      return fail(c, MARVIN_ERR_INVALID,
+                  "state must be \"on\", \"off\" or an object with \"on\" and/or "
+                  "\"brightness\"");
+    }
+    for (auto it = wanted.begin(); it != wanted.end(); ++it) {
+      if (it.key() == "on" && it->is_boolean()) continue;
+      if (it.key() == "brightness" && it->is_number_integer() && it->get<int>() >= 0 &&
+          it->get<int>() <= 100) {
+        continue;
+      }
+      return fail(c, MARVIN_ERR_INVALID,
+                  "state." + it.key() + ": expected \"on\": true|false or \"brightness\": "
+                  "0..100, got " + it->dump());
+    }
+    SmartHome::Reply reply = c.services().smarthome->set(device, wanted);
+    switch (reply.result) {
+      case SmartHome::Result::kDone:
+        return MARVIN_OK;
+      case SmartHome::Result::kNotFound:
+        return fail(c, MARVIN_ERR_NOT_FOUND, reply.sentence);
+      case SmartHome::Result::kInvalid:
+        return fail(c, MARVIN_ERR_INVALID, reply.sentence);
+      case SmartHome::Result::kUnavailable:
+        return fail(c, MARVIN_ERR_UNAVAILABLE, reply.sentence);
+    }
+    return fail(c, MARVIN_ERR_INTERNAL, "unknown smart-home result");
+  });
+}
+
+marvin_status api_smarthome_devices(marvin_host* host, marvin_text_out* devices_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "smarthome"));
+    MARVIN_TRY(need_out(c, devices_json));
+    MARVIN_TRY(need_service(c, c.services().smarthome, "smart home connection configured"));
+    return write_json(c, devices_json, c.services().smarthome->devices());
+  });
 }
 
 // --- since API 1.2: seeing -------------------------------------------------------------
@@ -677,6 +728,7 @@ const marvin_robot_api* host_robot_api() {
     a.go_to = api_go_to;
     a.go_stop = api_go_stop;
     a.where_am_i = api_where_am_i;
+    a.smarthome_devices = api_smarthome_devices;
     return a;
   }();
   return &api;

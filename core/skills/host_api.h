@@ -5,8 +5,9 @@
 // the manifest grants, whose storage keys to use, which task to cancel. Calls the
 // manifest does not grant fail with MARVIN_ERR_PERMISSION and a sentence naming the
 // permission and the skill. Schedules, contacts, people and storage are served from
-// PersonalData; light and motion go to the Body; say/ask to the User; the camera to Eyes.
-// vision_find_object/who_is_there (1.0 placeholders), phone and smart home answer
+// PersonalData; light and motion go to the Body; say/ask to the User; the camera to Eyes;
+// going places to the navigator; smart home to the SmartHome service.
+// vision_find_object/who_is_there (1.0 placeholders) and phone answer
 // MARVIN_ERR_UNAVAILABLE until their issues land.
 //
 // Threading: a context is used by the one thread running its skill, except cancel(),
@@ -28,6 +29,7 @@
 #include "devices/body.h"
 #include "navigation/going_places.h"
 #include "skills/eyes.h"
+#include "skills/smart_home.h"
 #include "skills/user.h"
 
 namespace marvin::skills {
@@ -49,9 +51,10 @@ struct HostServices {
   // The id of the reminder the host announced most recently, if any (schedule_last_fired).
   // Called from skill threads: it must be thread-safe.
   std::function<std::optional<std::int64_t>()> last_fired_reminder;
-  // The camera (API 1.2); null: vision_* answer MARVIN_ERR_UNAVAILABLE. Called from skill
-  // threads: it must be thread-safe.
-  Eyes* eyes = nullptr;
+// PersonalData; light and motion go to the Body; say/ask to the User; the camera to Eyes;
+// going places to the navigator; smart home to the SmartHome service.
+// vision_find_object/who_is_there (1.0 placeholders) and phone answer
+// MARVIN_ERR_UNAVAILABLE until their issues land.
 };
 
 // The system clock in milliseconds since the Unix epoch.

@@ -19,6 +19,8 @@ MockRobot::Impl::Impl(std::string id, std::vector<std::string> permissions)
   services.wait_for_motion = false;
   services.last_fired_reminder = [this] { return last_fired; };
   services.going_places = this;
+  home.actions = &actions;
+  services.smarthome = &home;
   context = std::make_unique<skills::SkillContext>(skill_id, std::move(permissions), services);
 }
 
@@ -99,6 +101,66 @@ std::optional<std::string> MockRobot::Impl::ask(std::string_view question) {
   return answer;
 }
 
+nlohmann::json FakeHome::devices() {
+  return nlohmann::json{{"connected", reachable}, {"room", room}, {"devices", list}};
+}
+
+skills::SmartHome::Reply FakeHome::set(const std::string& device, const nlohmann::json& state) {
+  Reply reply;
+  nlohmann::json* found = nullptr;
+  for (nlohmann::json& d : list) {
+    if (d["id"] == device || d["name"] == device) found = &d;
+  }
+  if (!found) {
+    reply.result = Result::kNotFound;
+    reply.sentence = "there is no device \"" + device + "\"";
+    return reply;
+  }
+  const std::string id = (*found)["id"].get<std::string>();
+  if (!reachable) {
+    reply.result = Result::kUnavailable;
+    reply.sentence = "the home's broker is unreachable";
+    return reply;
+  }
+  actions->push_back("smarthome_set " + id + " " + state.dump());
+  if (std::find(silent.begin(), silent.end(), id) != silent.end()) {
+    reply.result = Result::kUnavailable;
+    reply.sentence = "the " + (*found)["name"].get<std::string>() + " did not answer";
+    reply.device = *found;
+    return reply;
+  }
+  if (state.contains("on")) (*found)["on"] = state["on"];
+  if (state.contains("brightness")) (*found)["brightness"] = state["brightness"];
+  reply.device = *found;
+  return reply;
+}
+
+void MockRobot::add_device(const std::string& device_json) {
+  nlohmann::json d = nlohmann::json::parse(device_json);
+  for (const char* key : {"room", "type"}) {
+    if (!d.contains(key)) d[key] = std::string(key) == "type" ? "light" : "";
+  }
+  if (!d.contains("id")) d["id"] = d["name"];
+  if (!d.contains("dimmable")) d["dimmable"] = false;
+  if (!d.contains("aliases")) d["aliases"] = nlohmann::json::array();
+  if (!d.contains("available")) d["available"] = true;
+  if (!d.contains("on")) d["on"] = false;
+  if (!d.contains("brightness")) d["brightness"] = 100;
+  impl_->home.list.push_back(std::move(d));
+}
+void MockRobot::set_device_answers(const std::string& id, bool answers) {
+  auto& silent = impl_->home.silent;
+  silent.erase(std::remove(silent.begin(), silent.end(), id), silent.end());
+  if (!answers) silent.push_back(id);
+}
+void MockRobot::set_broker_reachable(bool reachable) { impl_->home.reachable = reachable; }
+std::optional<std::string> MockRobot::device(const std::string& id) const {
+  for (const nlohmann::json& d : impl_->home.list) {
+    if (d["id"] == id) return d.dump();
+  }
+  return std::nullopt;
+}
+
 MockRobot::MockRobot(std::string skill_id, std::vector<std::string> permissions)
     : impl_(std::make_unique<Impl>(std::move(skill_id), std::move(permissions))) {}
 MockRobot::~MockRobot() = default;
@@ -122,7 +184,10 @@ void MockRobot::add_place(std::string name, std::string room) {
 void MockRobot::block_place(std::string name, std::string reason) {
   impl_->blocked.emplace_back(std::move(name), std::move(reason));
 }
-void MockRobot::set_room(std::string room) { impl_->room = std::move(room); }
+void MockRobot::set_room(std::string room) {
+  impl_->home.room = room;
+  impl_->room = std::move(room);
+}
 const std::string& MockRobot::room() const { return impl_->room; }
 
 std::int64_t MockRobot::add_contact(const std::string& name, std::vector<std::string> aliases,

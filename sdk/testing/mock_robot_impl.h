@@ -15,6 +15,18 @@
 
 namespace marvin::testing {
 
+// The scripted smart home: devices in memory that report what they are told, unless
+// the test made them (or the broker) silent.
+struct FakeHome : skills::SmartHome {
+  nlohmann::json devices() override;
+  Reply set(const std::string& device, const nlohmann::json& state) override;
+  std::vector<nlohmann::json> list;
+  std::vector<std::string> silent;
+  bool reachable = true;
+  std::string room = "living room";
+  std::vector<std::string>* actions = nullptr;
+};
+
 struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   Impl(std::string skill_id, std::vector<std::string> permissions);
 
@@ -44,9 +56,7 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   std::vector<std::string> said, asked, actions;
   std::vector<marvin_scan_point> scan;
   std::optional<std::int64_t> last_fired;
-  std::vector<std::pair<std::string, std::string>> places;   // name, room
-  std::vector<std::pair<std::string, std::string>> blocked;  // name, reason
-  std::string room = "hall";
+  FakeHome home;
 };
 
 }  // namespace marvin::testing

@@ -17,6 +17,9 @@
  *   "camera"    vision_look, vision_capture_photo (API 1.2)
  *   "faces"     vision_enroll_face, vision_forget_face (API 1.2): who the robot knows
  *   "vision", "phone", "smarthome"    the capabilities of later releases
+
+ *   "smarthome" smarthome_set, smarthome_devices (API 1.2)
+ *   "vision", "phone"                 the capabilities of later releases
  * Calls without the permission fail with MARVIN_ERR_PERMISSION and change nothing.
  *
  * Threading: a skill instance is called by one host thread at a time; it may call the
@@ -133,6 +136,13 @@ typedef struct marvin_robot_api {
                                       marvin_text_out* result_json);
   marvin_status (*vision_who_is_there)(marvin_host* host, marvin_text_out* people_json);
   marvin_status (*phone_call)(marvin_host* host, const char* phone_number);
+  /* Smart home (real since API 1.2; MARVIN_ERR_UNAVAILABLE on older hosts): sets device
+   * `device` (an id from smarthome_devices, or the name or alias of exactly one device) to
+   * `state`: "on", "off", or JSON {"on": true|false, "brightness": 0..100} (either or both).
+   * Returns MARVIN_OK only once the device itself reported the new state through the home's
+   * broker; MARVIN_ERR_UNAVAILABLE when there is no broker connection, the device is offline
+   * or did not answer within a few seconds (last_error says which), MARVIN_ERR_NOT_FOUND
+   * for an unknown or ambiguous device, MARVIN_ERR_INVALID for a malformed state. */
   marvin_status (*smarthome_set)(marvin_host* host, const char* device, const char* state);
 
   /* --- since API 1.1: answering a reminder that fired ("snooze", "I took them") ------
@@ -192,6 +202,17 @@ typedef struct marvin_robot_api {
   /* The room the robot believes it is in ("kitchen"). MARVIN_ERR_NOT_FOUND between rooms
    * (in a doorway) or outside every room. */
   marvin_status (*where_am_i)(marvin_host* host, marvin_text_out* room);
+
+  /* --- since API 1.2: smart home ------------------------------------------------------
+   * The devices the robot can control, with the state they reported last, as JSON:
+   *   {"connected": true, "room": "living room",
+   *    "devices": [{"id": "z2m:kitchen/kitchen light", "name": "kitchen light",
+   *                 "room": "kitchen", "type": "light", "dimmable": true,
+   *                 "aliases": ["the big lamp"], "available": true,
+   *                 "on": false, "brightness": 100}]}
+   * "connected": whether the home's broker is reachable now; "room": where the robot is;
+   * "on"/"brightness" are null until the device reported them. */
+  marvin_status (*smarthome_devices)(marvin_host* host, marvin_text_out* devices_json);
 } marvin_robot_api;
 
 #ifdef __cplusplus

@@ -168,6 +168,19 @@ class Robot {
       throw;
     }
   }
+  // Smart home (Robot API 1.2). Sets a device ("on", "off" or {"on", "brightness"}) and
+  // returns once the device reported it; throws Error(MARVIN_ERR_UNAVAILABLE) when the
+  // broker is unreachable or the device did not answer (what() says which).
+  void smarthome_set(std::string_view device, const nlohmann::json& state) {
+    std::string d = str(device);
+    std::string s = state.is_string() ? state.get<std::string>() : state.dump();
+    check(fn(&marvin_robot_api::smarthome_set, "smarthome_set")(host_, d.c_str(), s.c_str()));
+  }
+  // {"connected", "room", "devices": [...]} (see marvin/robot.h).
+  nlohmann::json smarthome_devices() {
+    auto call = fn(&marvin_robot_api::smarthome_devices, "smarthome_devices");
+    return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
+  }
   nlohmann::json contacts_find(std::string_view name) {
     std::string n = str(name);
     auto call = fn(&marvin_robot_api::contacts_find, "contacts_find");

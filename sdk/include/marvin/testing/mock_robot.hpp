@@ -58,7 +58,8 @@ class MockRobot {
   // actions() records "go_to <place>" and "stop".
   void add_place(std::string name, std::string room);
   void block_place(std::string name, std::string reason);
-  // The room where_am_i() answers ("" : between rooms). Starts as "hall".
+  // The room the robot is in: where_am_i() answers it ("": between rooms) and the smart
+  // home resolves "the light" in it. Starts as "living room".
   void set_room(std::string room);
   const std::string& room() const;
   // Adds a contact the skill can find; returns its id.
@@ -80,13 +81,24 @@ class MockRobot {
   // `message` as the error sentence, and nothing is enrolled or forgotten.
   void set_camera_failure(std::string message);
 
+  // Smart home (smarthome_set, smarthome_devices). A device as in smarthome_devices()'s
+  // "devices" ({"id", "name", "room", "type", "dimmable", ...}; "on" false and
+  // "brightness" 100 when left out); it answers every command unless set_device_answers()
+  // says otherwise. The broker is reachable unless set_broker_reachable(false).
+  void add_device(const std::string& device_json);
+  void set_device_answers(const std::string& id, bool answers);
+  void set_broker_reachable(bool reachable);
+  // The device's current state as JSON text; nullopt for an unknown id.
+  std::optional<std::string> device(const std::string& id) const;
+
   // --- what the skill did ----------------------------------------------------------
   // Every sentence spoken, questions included, in order.
   const std::vector<std::string>& said() const;
   // The questions asked (also in said()).
   const std::vector<std::string>& asked() const;
-  // Body and camera actions in order: "light executing", "move forward speed=120 ms=1500",
-  // "stop", "tilt_head 20", "capture_photo", "enroll_face Anna frames=3", "forget_face Anna".
+  // Body, camera and smart-home actions in order: "light executing",
+  // "move forward speed=120 ms=1500", "stop", "tilt_head 20", "capture_photo",
+  // "enroll_face Anna frames=3", "forget_face Anna", "smarthome_set <id> {\"on\":true}".
   const std::vector<std::string>& actions() const;
   // Scripted answers not used yet.
   std::size_t answers_left() const;
