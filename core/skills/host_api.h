@@ -51,10 +51,12 @@ struct HostServices {
   // The id of the reminder the host announced most recently, if any (schedule_last_fired).
   // Called from skill threads: it must be thread-safe.
   std::function<std::optional<std::int64_t>()> last_fired_reminder;
-// PersonalData; light and motion go to the Body; say/ask to the User; the camera to Eyes;
-// going places to the navigator; smart home to the SmartHome service.
-// vision_find_object/who_is_there (1.0 placeholders) and phone answer
-// MARVIN_ERR_UNAVAILABLE until their issues land.
+  // The camera (API 1.2); null: vision_* answer MARVIN_ERR_UNAVAILABLE. Called from skill
+  // threads: it must be thread-safe.
+  Eyes* eyes = nullptr;
+  // Smart-home devices over the home's broker (smarthome_*); null: none configured.
+  // Called from skill threads: it must be thread-safe.
+  SmartHome* smarthome = nullptr;
 };
 
 // The system clock in milliseconds since the Unix epoch.

@@ -56,6 +56,9 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   std::vector<std::string> said, asked, actions;
   std::vector<marvin_scan_point> scan;
   std::optional<std::int64_t> last_fired;
+  std::vector<std::pair<std::string, std::string>> places;   // name, room
+  std::vector<std::pair<std::string, std::string>> blocked;  // name, reason
+  std::string room = "living room";
   FakeHome home;
 };
 
