@@ -23,7 +23,7 @@ struct FakeHome : skills::SmartHome {
   std::vector<nlohmann::json> list;
   std::vector<std::string> silent;
   bool reachable = true;
-  std::string room = "living room";
+  std::string room = "hall";
   std::vector<std::string>* actions = nullptr;
 };
 
@@ -58,7 +58,7 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   std::optional<std::int64_t> last_fired;
   std::vector<std::pair<std::string, std::string>> places;   // name, room
   std::vector<std::pair<std::string, std::string>> blocked;  // name, reason
-  std::string room = "living room";
+  std::string room = "hall";
   FakeHome home;
 };
 

@@ -59,7 +59,7 @@ class MockRobot {
   void add_place(std::string name, std::string room);
   void block_place(std::string name, std::string reason);
   // The room the robot is in: where_am_i() answers it ("": between rooms) and the smart
-  // home resolves "the light" in it. Starts as "living room".
+  // home resolves "the light" in it. Starts as "hall".
   void set_room(std::string room);
   const std::string& room() const;
   // Adds a contact the skill can find; returns its id.
