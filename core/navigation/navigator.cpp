@@ -37,6 +37,20 @@ std::vector<Vec2> Navigator::path() const {
   return path_;
 }
 
+std::vector<std::string> Navigator::place_names() const {
+  std::vector<std::string> names;
+  auto add = [&](const std::string& name) {
+    const std::string plain = normalise_name(name);  // "the sofa" -> "sofa"
+    names.push_back(plain);
+    names.push_back("the " + plain);
+  };
+  for (const Room& r : map_.rooms) add(r.name);
+  for (const Place& p : map_.places) add(p.name);
+  for (const Place& p : map_.people) names.push_back(p.name);
+  if (!map_.owner.empty()) names.push_back("me");
+  return names;
+}
+
 void Navigator::stop() {
   stop_requested_.store(true);
   body_.stop();

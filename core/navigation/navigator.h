@@ -58,6 +58,7 @@ class Navigator : public GoingPlaces {
   void stop() override;
   std::optional<std::string> where_am_i() override;
   double time_scale() const override { return options_.time_scale; }
+  std::vector<std::string> place_names() const override;
 
   const FloorMap& map() const { return map_; }
   const NavigatorOptions& options() const { return options_; }

@@ -2,6 +2,8 @@
 // navigator drives there on odometry without touching anything; a blocked door is named.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include "navigation/dead_reckoning.h"
 #include "navigation/navigator.h"
 #include "navigation/planner.h"
@@ -177,4 +179,12 @@ TEST_CASE("dead reckoning of the commands sent follows the simulated base it dri
   CHECK(marvin::navigation::distance(truth.position(), start.position()) > 0.5);
   CHECK(marvin::navigation::distance(truth.position(), guess.position()) < 0.02);
   CHECK(std::fabs(marvin::navigation::wrap_angle(truth.heading - guess.heading)) < 0.03);
+}
+
+TEST_CASE("the names a user can say after \"go to\"") {
+  Rig rig(home());
+  const auto names = rig.nav.place_names();
+  for (const char* want : {"kitchen", "the kitchen", "living room", "the sofa", "sofa",
+                           "the front door", "Anna", "me"})
+    CHECK(std::find(names.begin(), names.end(), want) != names.end());
 }
