@@ -49,6 +49,12 @@ SimHome::~SimHome() {
   navigator_->stop();
 }
 
+std::unique_ptr<vision::Camera> SimHome::camera() {
+  sim::SimRunner* runner = runner_.get();
+  return std::make_unique<sim::SimCamera>(runner->world(),
+                                          [runner] { return runner->camera_view(); });
+}
+
 void SimHome::draw() {
   if (options_.show.empty()) return;
   std::vector<navigation::Vec2> path = navigator_->path();

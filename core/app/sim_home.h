@@ -38,6 +38,10 @@ class SimHome {
 
   sim::SimRunner& body() { return *runner_; }
   navigation::Navigator& navigator() { return *navigator_; }
+  // The robot's head camera in the simulated home (a vision::Camera for the vision graph):
+  // each read() renders the robot's current view. Throws vision::CameraError when a photo
+  // of the world cannot be read.
+  std::unique_ptr<vision::Camera> camera();
   // Draws the picture now (also done every 500 ms with --show).
   void draw();
 
