@@ -72,8 +72,7 @@ void SimHome::draw() {
 SerialNavigation::SerialNavigation(const std::filesystem::path& world_file,
                                    devices::SerialBody& serial) {
   sim::World world = sim::load_world(world_file);
-  navigation::BaseSpec base{world.robot.max_speed_m_s, world.robot.track_m,
-                            world.robot.accel_m_s2};
+  navigation::BaseSpec base{world.robot.max_speed_m_s, world.robot.track_m, world.robot.accel_m_s2};
   reckoning_ = std::make_unique<navigation::DeadReckoning>(
       serial, base, world.robot.start, [&serial] { return serial.motors().driving(); });
   navigator_ = std::make_unique<navigation::Navigator>(

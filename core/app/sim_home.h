@@ -24,7 +24,7 @@ struct SimHomeOptions {
   std::filesystem::path world_file;  // required
   double speed = 1;                  // simulated seconds per second
   std::uint64_t seed = 1;
-  std::filesystem::path show;        // a PNG to keep up to date; empty: none
+  std::filesystem::path show;  // a PNG to keep up to date; empty: none
 };
 
 class SimHome {

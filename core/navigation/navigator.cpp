@@ -182,8 +182,8 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
       const double err = wrap_angle(std::atan2(to.y, to.x) - pose.heading);
       if (std::fabs(degrees(err)) > options_.aim_deg) {
         driving_forward = false;
-        const std::uint8_t speed = std::fabs(degrees(err)) > 30 ? options_.turn_speed
-                                                                : options_.fine_turn_speed;
+        const std::uint8_t speed =
+            std::fabs(degrees(err)) > 30 ? options_.turn_speed : options_.fine_turn_speed;
         body_.move(err > 0 ? devices::Direction::kLeft : devices::Direction::kRight, speed,
                    move_ms);
         continue;

@@ -1,11 +1,12 @@
 // The simulated camera: an object's photo lands where the geometry says, scaled by
 // distance, and a wall in between hides it.
+#include "sim/camera.h"
+
 #include <doctest/doctest.h>
 
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
-#include "sim/camera.h"
 #include "sim/sim_runner.h"
 #include "support/files.h"
 
@@ -86,7 +87,8 @@ TEST_CASE("a wall in between hides the photo; tilting the head moves it down") {
   auto up = camera.project(world.objects[0], view);
   REQUIRE(level);
   REQUIRE(up);
-  CHECK(up->y - level->y == doctest::Approx(554.3 * std::tan(20 * marvin::navigation::kPi / 180)).epsilon(0.02));
+  CHECK(up->y - level->y ==
+        doctest::Approx(554.3 * std::tan(20 * marvin::navigation::kPi / 180)).epsilon(0.02));
 }
 
 TEST_CASE("a missing photo is a CameraError naming the file") {

@@ -23,7 +23,8 @@ marvin::sim::World home() { return marvin::sim::load_world(marvin::sim::default_
 struct Rig {
   explicit Rig(marvin::sim::World world)
       : runner(std::move(world), marvin::sim::SimOptions{}, 1.0),
-        nav(runner.floor_map(), runner, [this] { return runner.odometry(); },
+        nav(
+            runner.floor_map(), runner, [this] { return runner.odometry(); },
             [this] { return runner.sim_scan(); }, [this] { return runner.now_ms(); }) {}
   GoResult go(const std::string& where) {
     return nav.go_to(where, [this](std::chrono::milliseconds ms) {
@@ -38,9 +39,8 @@ double min_clearance_during(Rig& rig, const std::string& where, GoResult* result
   double least = 1e9;
   std::function<bool(std::chrono::milliseconds)> wait = [&](std::chrono::milliseconds ms) {
     bool cancelled = rig.runner.wait(ms, [] { return false; });
-    rig.runner.inspect([&](const marvin::sim::Simulator& s) {
-      least = std::min(least, s.clearance_m(s.pose()));
-    });
+    rig.runner.inspect(
+        [&](const marvin::sim::Simulator& s) { least = std::min(least, s.clearance_m(s.pose())); });
     return cancelled;
   };
   *result = rig.nav.go_to(where, wait);
