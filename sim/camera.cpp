@@ -77,10 +77,11 @@ bool SimCamera::read(vision::Frame& frame) {
 std::optional<cv::Rect> SimCamera::project(const Thing& thing, const CameraView& view) const {
   const Vec2 d = thing.at - view.pose.position();
   const double c = std::cos(view.pose.heading), s = std::sin(view.pose.heading);
-  const double depth = d.x * c + d.y * s;      // along the heading
-  const double lateral = -d.x * s + d.y * c;   // to the left
+  const double depth = d.x * c + d.y * s;     // along the heading
+  const double lateral = -d.x * s + d.y * c;  // to the left
   if (depth < 0.2) return std::nullopt;
-  const double horizon = spec_.height / 2.0 + focal_ * std::tan(view.head_deg * navigation::kPi / 180);
+  const double horizon =
+      spec_.height / 2.0 + focal_ * std::tan(view.head_deg * navigation::kPi / 180);
   const double cam_h = world_.robot.camera_height_m;
   const double h_px = focal_ * thing.size_m / depth;
   double w_px = h_px;
@@ -89,8 +90,10 @@ std::optional<cv::Rect> SimCamera::project(const Thing& thing, const CameraView&
   }
   const double cx = spec_.width / 2.0 - focal_ * lateral / depth;
   const double bottom = horizon - focal_ * (thing.elevation_m - cam_h) / depth;
-  cv::Rect r(static_cast<int>(std::lround(cx - w_px / 2)), static_cast<int>(std::lround(bottom - h_px)),
-             std::max(1, static_cast<int>(std::lround(w_px))), std::max(1, static_cast<int>(std::lround(h_px))));
+  cv::Rect r(static_cast<int>(std::lround(cx - w_px / 2)),
+             static_cast<int>(std::lround(bottom - h_px)),
+             std::max(1, static_cast<int>(std::lround(w_px))),
+             std::max(1, static_cast<int>(std::lround(h_px))));
   if ((r & cv::Rect(0, 0, spec_.width, spec_.height)).area() == 0) return std::nullopt;
   return r;
 }
@@ -99,7 +102,8 @@ void SimCamera::render(const CameraView& view, cv::Mat& out) {
   out.create(spec_.height, spec_.width, CV_8UC3);
   const navigation::Pose& p = view.pose;
   const Vec2 o = p.position();
-  const double horizon = spec_.height / 2.0 + focal_ * std::tan(view.head_deg * navigation::kPi / 180);
+  const double horizon =
+      spec_.height / 2.0 + focal_ * std::tan(view.head_deg * navigation::kPi / 180);
   const double cam_h = world_.robot.camera_height_m, wall_h = world_.wall_height_m;
   const cv::Vec3b ceiling(236, 236, 236), wall(196, 210, 222), box(96, 112, 128);
   const cv::Vec3b floor = floor_colour(world_, o);

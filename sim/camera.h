@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "vision/camera.h"
 #include "sim/world.h"
+#include "vision/camera.h"
 
 namespace marvin::sim {
 

@@ -68,10 +68,12 @@ cv::Mat render_map(const World& world, const RobotView& robot, const MapView& vi
   }
   for (const auto& f : world.clutter) {
     cv::rectangle(img, c.px(f.box.min), c.px(f.box.max), cv::Scalar(40, 90, 200), cv::FILLED);
-    if (view.labels) label(img, f.name, c.px({f.box.min.x, f.box.max.y + 0.05}), cv::Scalar(40, 90, 200), 0.35);
+    if (view.labels)
+      label(img, f.name, c.px({f.box.min.x, f.box.max.y + 0.05}), cv::Scalar(40, 90, 200), 0.35);
   }
   // Walls; closed doors in brown over them.
-  for (const auto& s : world.map.walls) cv::line(img, c.px(s.a), c.px(s.b), cv::Scalar(30, 30, 30), 4);
+  for (const auto& s : world.map.walls)
+    cv::line(img, c.px(s.a), c.px(s.b), cv::Scalar(30, 30, 30), 4);
   for (const auto& d : world.map.doors) {
     if (!d.open) cv::line(img, c.px(d.a), c.px(d.b), cv::Scalar(40, 80, 140), 4);
   }
@@ -88,7 +90,8 @@ cv::Mat render_map(const World& world, const RobotView& robot, const MapView& vi
   }
   for (const auto& o : world.objects) {
     cv::circle(img, c.px(o.at), 5, cv::Scalar(0, 140, 255), cv::FILLED);
-    if (view.labels) label(img, o.name, c.px(o.at) + cv::Point(6, -4), cv::Scalar(0, 100, 200), 0.35);
+    if (view.labels)
+      label(img, o.name, c.px(o.at) + cv::Point(6, -4), cv::Scalar(0, 100, 200), 0.35);
   }
   for (const auto& p : world.people) {
     cv::circle(img, c.px(p.at), 8, cv::Scalar(200, 80, 0), cv::FILLED);
@@ -114,7 +117,8 @@ cv::Mat render_map(const World& world, const RobotView& robot, const MapView& vi
   }
   // The path.
   for (std::size_t i = 1; i < robot.path.size(); ++i)
-    cv::line(img, c.px(robot.path[i - 1]), c.px(robot.path[i]), cv::Scalar(220, 0, 180), 2, cv::LINE_AA);
+    cv::line(img, c.px(robot.path[i - 1]), c.px(robot.path[i]), cv::Scalar(220, 0, 180), 2,
+             cv::LINE_AA);
   for (Vec2 p : robot.path) cv::circle(img, c.px(p), 3, cv::Scalar(220, 0, 180), cv::FILLED);
   // Sonar rays: the horizontal part of each reading along the heading (red: an echo).
   for (const SonarSample& s : robot.sonar) {
@@ -124,7 +128,8 @@ cv::Mat render_map(const World& world, const RobotView& robot, const MapView& vi
       elevation = 180 - elevation;
     }
     const double horizontal = s.distance_m * std::cos(elevation * navigation::kPi / 180);
-    const Vec2 end{pose.x + std::cos(heading) * horizontal, pose.y + std::sin(heading) * horizontal};
+    const Vec2 end{pose.x + std::cos(heading) * horizontal,
+                   pose.y + std::sin(heading) * horizontal};
     cv::line(img, c.px(pose.position()), c.px(end),
              s.echo ? cv::Scalar(0, 0, 230) : cv::Scalar(170, 170, 170), 1, cv::LINE_AA);
     if (s.echo) cv::circle(img, c.px(end), 3, cv::Scalar(0, 0, 230), cv::FILLED);

@@ -137,6 +137,11 @@ navigation::Pose SimRunner::odometry() const {
   std::lock_guard lock(mu_);
   return sim_.odometry();
 }
+CameraView SimRunner::camera_view() const {
+  std::lock_guard lock(mu_);
+  return {sim_.pose(), sim_.head_deg(), sim_.time_ms() * 1000};
+}
+
 navigation::Pose SimRunner::true_pose() const {
   std::lock_guard lock(mu_);
   return sim_.pose();

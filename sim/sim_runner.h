@@ -13,6 +13,7 @@
 
 #include "devices/body.h"
 #include "navigation/navigator.h"
+#include "sim/camera.h"
 #include "sim/simulator.h"
 
 namespace marvin::sim {
@@ -48,6 +49,10 @@ class SimRunner : public devices::Body {
   // started); returns true at once when `cancelled()` turns true (checked on each step).
   bool wait(std::chrono::milliseconds ms, const std::function<bool()>& cancelled);
   double speed() const { return speed_; }
+  // The world (it does not change while the simulation runs).
+  const World& world() const { return sim_.world(); }
+  // What the robot's head camera sees now: true pose and head tilt, simulated time.
+  CameraView camera_view() const;
   // The world's floor plan (what navigation is given).
   const navigation::FloorMap& floor_map() const { return sim_.world().map; }
 

@@ -9,7 +9,7 @@ namespace {
 using navigation::Pose;
 using navigation::Vec2;
 
-constexpr double kEchoWindowS = 0.0145;  // 2 x 2.5 m / 346 m/s, rounded up: <= 69 readings/s
+constexpr double kEchoWindowS = 0.0145;        // 2 x 2.5 m / 346 m/s, rounded up: <= 69 readings/s
 constexpr double kServoDegPerS = 60.0 / 0.14;  // MG996R
 
 double rad(double deg) { return deg * navigation::kPi / 180.0; }
@@ -61,7 +61,8 @@ void Simulator::set_sweep(int mode, int from, int to, int step) {
 double Simulator::clearance_m(const Pose& pose) const {
   double best = 1e18;
   const Vec2 p = pose.position();
-  for (const auto& s : solids_) best = std::min(best, navigation::point_segment_distance(p, s.a, s.b));
+  for (const auto& s : solids_)
+    best = std::min(best, navigation::point_segment_distance(p, s.a, s.b));
   return best;
 }
 

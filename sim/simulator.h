@@ -26,10 +26,10 @@ struct SonarSample {
 
 struct SimOptions {
   std::uint64_t seed = 1;
-  double odometry_noise = 0.01;   // relative, per wheel and step (a random walk)
-  double sonar_noise_m = 0.01;    // plus 1% of the distance, standard deviation
-  double sonar_dropout = 0.02;    // chance that a real echo is lost
-  double cone_deg = 15;           // the HC-SR04's beam, full width
+  double odometry_noise = 0.01;  // relative, per wheel and step (a random walk)
+  double sonar_noise_m = 0.01;   // plus 1% of the distance, standard deviation
+  double sonar_dropout = 0.02;   // chance that a real echo is lost
+  double cone_deg = 15;          // the HC-SR04's beam, full width
   int cone_rays = 5;
 };
 
@@ -69,7 +69,9 @@ class Simulator {
   const std::map<int, SonarSample>& latest_sonar() const { return latest_; }
   std::uint64_t sonar_count() const { return sonar_count_; }
   // Called on each new collision with the pose where it happened.
-  void on_collision(std::function<void(const navigation::Pose&)> f) { on_collision_ = std::move(f); }
+  void on_collision(std::function<void(const navigation::Pose&)> f) {
+    on_collision_ = std::move(f);
+  }
 
   // Where the body is in the way of a solid side: distance from the centre to the nearest.
   double clearance_m(const navigation::Pose& pose) const;

@@ -8,8 +8,8 @@
 namespace marvin::sim {
 namespace {
 
-using nlohmann::json;
 using navigation::Vec2;
+using nlohmann::json;
 
 // Builds messages: "<file>: <element>: <what>".
 struct Where {
@@ -71,7 +71,8 @@ Vec2 point(const json& j, const char* key, const Where& w) {
 const json& list(const json& root, const char* key, const std::string& file) {
   static const json empty = json::array();
   if (!root.contains(key)) return empty;
-  if (!root[key].is_array()) throw WorldError(file + ": '" + std::string(key) + "' must be an array");
+  if (!root[key].is_array())
+    throw WorldError(file + ": '" + std::string(key) + "' must be an array");
   return root[key];
 }
 
@@ -89,13 +90,14 @@ std::string room_field(const json& j, const char* key, const navigation::FloorMa
   for (const auto& r : map.rooms) {
     if (r.name == name) return name;
   }
-  w.fail(std::string("'") + key + "' \"" + name + "\" is not a room of this world (rooms: " +
-         room_names(map) + ")");
+  w.fail(std::string("'") + key + "' \"" + name +
+         "\" is not a room of this world (rooms: " + room_names(map) + ")");
 }
 
 double nearest_wall(const std::vector<navigation::Segment>& walls, Vec2 p) {
   double best = 1e18;
-  for (const auto& s : walls) best = std::min(best, navigation::point_segment_distance(p, s.a, s.b));
+  for (const auto& s : walls)
+    best = std::min(best, navigation::point_segment_distance(p, s.a, s.b));
   return best;
 }
 
@@ -158,8 +160,7 @@ World parse_world(const std::string& json_text, const std::filesystem::path& fil
   }
   Where top{file, ""};
   if (!root.is_object()) top.fail("a world must be a JSON object");
-  if (text(root, "format", top) != "marvin-world")
-    top.fail("'format' must be \"marvin-world\"");
+  if (text(root, "format", top) != "marvin-world") top.fail("'format' must be \"marvin-world\"");
   const json& version = field(root, "version", top);
   if (!version.is_number_integer() || version.get<int>() != kWorldFormatVersion)
     top.fail("'version' must be " + std::to_string(kWorldFormatVersion) +
@@ -186,8 +187,8 @@ World parse_world(const std::string& json_text, const std::filesystem::path& fil
       w.fail("'outline' must be an array of at least 3 points [x, y]");
     for (const auto& p : outline) room.outline.push_back(point_of(p, "outline", w));
     for (std::size_t k = 0; k < room.outline.size(); ++k) {
-      walls.push_back({room.outline[k], room.outline[(k + 1) % room.outline.size()],
-                       world.wall_height_m});
+      walls.push_back(
+          {room.outline[k], room.outline[(k + 1) % room.outline.size()], world.wall_height_m});
     }
     room.spot = rooms[i].contains("spot") ? point(rooms[i], "spot", w)
                                           : navigation::polygon_centroid(room.outline);
@@ -217,9 +218,8 @@ World parse_world(const std::string& json_text, const std::filesystem::path& fil
       w.fail("'rooms' must name the one or two rooms the door joins");
     for (std::size_t k = 0; k < joined.size(); ++k) {
       json one = {{"room", joined[k]}};
-      door.rooms.push_back(room_field(one, "room", world.map, {file, w.element + " rooms[" +
-                                                                          std::to_string(k) + "]"},
-                                      true));
+      door.rooms.push_back(room_field(
+          one, "room", world.map, {file, w.element + " rooms[" + std::to_string(k) + "]"}, true));
     }
     std::vector<navigation::Segment> cut;
     bool on_wall = false;
@@ -273,12 +273,15 @@ World parse_world(const std::string& json_text, const std::filesystem::path& fil
         for (const auto& side : sides) {
           if (navigation::segments_intersect(side.a, side.b, s.a, s.b))
             w.fail("the box from " + fmt(f.box.min) + " to " + fmt(f.box.max) +
-                   " is inside a wall (it crosses the wall from " + fmt(s.a) + " to " + fmt(s.b) + ")");
+                   " is inside a wall (it crosses the wall from " + fmt(s.a) + " to " + fmt(s.b) +
+                   ")");
         }
       }
       const Vec2 centre = (f.box.min + f.box.max) * 0.5;
       const navigation::Room* in = world.map.room_at(centre);
-      if (!in) w.fail("the box from " + fmt(f.box.min) + " to " + fmt(f.box.max) + " is outside every room");
+      if (!in)
+        w.fail("the box from " + fmt(f.box.min) + " to " + fmt(f.box.max) +
+               " is outside every room");
       if (!room.empty() && in->name != room)
         w.fail("the box is in the " + in->name + ", not the " + room);
       out.push_back(std::move(f));

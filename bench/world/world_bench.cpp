@@ -48,7 +48,8 @@ marvin::mcusim::Room old_room(const marvin::sim::World& w) {
   room.ceiling_m = w.wall_height_m;
   for (const auto& s : w.solid_segments())
     room.segments.push_back({s.a.x, s.a.y, s.b.x, s.b.y, s.height});
-  room.start = {w.robot.start.x, w.robot.start.y, w.robot.start.heading * 180 / marvin::navigation::kPi};
+  room.start = {w.robot.start.x, w.robot.start.y,
+                w.robot.start.heading * 180 / marvin::navigation::kPi};
   return room;
 }
 
@@ -74,7 +75,8 @@ marvin::navigation::FloorMap big_home() {
   }
   for (int x = 0; x < 4; ++x) {
     for (int y = 0; y < 4; ++y) {  // a table in each room, off the door lines
-      map.furniture.push_back({"table", {{x * 5 + 0.8, y * 5 + 0.8}, {x * 5 + 1.8, y * 5 + 1.6}, 0.75}});
+      map.furniture.push_back(
+          {"table", {{x * 5 + 0.8, y * 5 + 0.8}, {x * 5 + 1.8, y * 5 + 1.6}, 0.75}});
     }
   }
   map.rooms.push_back({"all", {{0, 0}, {20, 0}, {20, 20}, {0, 20}}, {1, 1}});
@@ -99,8 +101,8 @@ int main() {
         sim.step(0.01);
       },
       20000);
-  const double old_step_us = median_us(
-      [&] { marvin::mcusim::step_body(room, old_pose, -0.1, 0.2, 0.01); }, 20000);
+  const double old_step_us =
+      median_us([&] { marvin::mcusim::step_body(room, old_pose, -0.1, 0.2, 0.01); }, 20000);
   print("step", step_us, "old room model step", old_step_us, "<= 50 us");
   std::printf("         simulated time runs %.0fx faster than real time on this core\n",
               10000.0 / step_us);

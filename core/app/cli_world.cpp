@@ -21,8 +21,8 @@ struct RenderOptions {
   std::string out = "map.png";
   std::string to;
   double pixels_per_m = 60;
-  std::string camera;          // also write what the camera sees
-  std::vector<double> pose;    // x y heading_deg: the robot here instead of its start
+  std::string camera;        // also write what the camera sees
+  std::vector<double> pose;  // x y heading_deg: the robot here instead of its start
   int head_deg = 0;
 };
 
@@ -42,7 +42,9 @@ void render(const RenderOptions& o) {
   std::vector<navigation::Vec2> path;
   if (!o.to.empty()) {
     std::optional<navigation::Target> target = world.map.find(o.to);
-    if (!target) throw CliError("--to: \"" + o.to + "\" is not a room, place or person of " + world.file.string(), 1);
+    if (!target)
+      throw CliError(
+          "--to: \"" + o.to + "\" is not a room, place or person of " + world.file.string(), 1);
     navigation::OccupancyGrid grid(world.map, 0.05, navigation::NavigatorOptions{}.inflate_m);
     navigation::Planner planner;
     auto planned = planner.plan(grid, world.robot.start.position(), target->at);
@@ -58,7 +60,9 @@ void render(const RenderOptions& o) {
   }
   if (!o.camera.empty()) {
     try {
-      sim::SimCamera camera(world, [&] { return sim::CameraView{world.robot.start, 1.0 * o.head_deg, 0}; });
+      sim::SimCamera camera(world, [&] {
+        return sim::CameraView{world.robot.start, 1.0 * o.head_deg, 0};
+      });
       vision::Frame frame;
       camera.read(frame);
       sim::write_png(frame.image, o.camera);
@@ -69,7 +73,8 @@ void render(const RenderOptions& o) {
   }
   write_line("wrote " + o.out + " (" + std::to_string(world.map.rooms.size()) + " rooms, " +
              std::to_string(world.map.furniture.size()) + " pieces of furniture" +
-             (path.empty() ? "" : ", a path of " + std::to_string(path.size()) + " waypoints") + ")");
+             (path.empty() ? "" : ", a path of " + std::to_string(path.size()) + " waypoints") +
+             ")");
 }
 
 void install_world_commands(CLI::App& root) {

@@ -49,6 +49,12 @@ SimHome::~SimHome() {
   navigator_->stop();
 }
 
+std::unique_ptr<vision::Camera> SimHome::camera() {
+  sim::SimRunner* runner = runner_.get();
+  return std::make_unique<sim::SimCamera>(runner->world(),
+                                          [runner] { return runner->camera_view(); });
+}
+
 void SimHome::draw() {
   if (options_.show.empty()) return;
   std::vector<navigation::Vec2> path = navigator_->path();
@@ -66,8 +72,7 @@ void SimHome::draw() {
 SerialNavigation::SerialNavigation(const std::filesystem::path& world_file,
                                    devices::SerialBody& serial) {
   sim::World world = sim::load_world(world_file);
-  navigation::BaseSpec base{world.robot.max_speed_m_s, world.robot.track_m,
-                            world.robot.accel_m_s2};
+  navigation::BaseSpec base{world.robot.max_speed_m_s, world.robot.track_m, world.robot.accel_m_s2};
   reckoning_ = std::make_unique<navigation::DeadReckoning>(
       serial, base, world.robot.start, [&serial] { return serial.motors().driving(); });
   navigator_ = std::make_unique<navigation::Navigator>(

@@ -24,7 +24,7 @@ struct SimHomeOptions {
   std::filesystem::path world_file;  // required
   double speed = 1;                  // simulated seconds per second
   std::uint64_t seed = 1;
-  std::filesystem::path show;        // a PNG to keep up to date; empty: none
+  std::filesystem::path show;  // a PNG to keep up to date; empty: none
 };
 
 class SimHome {
@@ -38,6 +38,10 @@ class SimHome {
 
   sim::SimRunner& body() { return *runner_; }
   navigation::Navigator& navigator() { return *navigator_; }
+  // The robot's head camera in the simulated home (a vision::Camera for the vision graph):
+  // each read() renders the robot's current view. Throws vision::CameraError when a photo
+  // of the world cannot be read.
+  std::unique_ptr<vision::Camera> camera();
   // Draws the picture now (also done every 500 ms with --show).
   void draw();
 

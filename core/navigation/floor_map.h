@@ -14,14 +14,14 @@
 namespace marvin::navigation {
 
 struct Room {
-  std::string name;          // "kitchen"
-  std::vector<Vec2> outline; // polygon, metres
-  Vec2 spot;                 // where "go to the kitchen" ends
+  std::string name;           // "kitchen"
+  std::vector<Vec2> outline;  // polygon, metres
+  Vec2 spot;                  // where "go to the kitchen" ends
 };
 
 struct Door {
-  std::string name;  // "kitchen door"
-  Vec2 a, b;         // the opening's two ends (on the wall)
+  std::string name;                // "kitchen door"
+  Vec2 a, b;                       // the opening's two ends (on the wall)
   std::vector<std::string> rooms;  // the rooms it joins (one for an outside door)
   bool open = true;
 };

@@ -42,7 +42,9 @@ struct Segment {
 struct Box {
   Vec2 min, max;
   double height = 0.5;
-  bool contains(Vec2 p) const { return p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y; }
+  bool contains(Vec2 p) const {
+    return p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y;
+  }
   // The four sides, counter-clockwise.
   void sides(Segment out[4]) const {
     out[0] = {{min.x, min.y}, {max.x, min.y}, height};

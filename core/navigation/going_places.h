@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace marvin::navigation {
 
@@ -33,6 +34,9 @@ class GoingPlaces {
   // Robot seconds per wall-clock second (a simulation run with --speed N: N). The host
   // waits wall time step / time_scale() between control steps.
   virtual double time_scale() const { return 1.0; }
+  // The names go_to() knows, as a user would say them ("the kitchen", "kitchen", "the sofa",
+  // "Anna", "me"): what the speech recogniser listens for after "go to".
+  virtual std::vector<std::string> place_names() const { return {}; }
   // The room the robot believes it is in; nullopt between rooms (a doorway) or outside.
   virtual std::optional<std::string> where_am_i() = 0;
 };

@@ -37,6 +37,20 @@ std::vector<Vec2> Navigator::path() const {
   return path_;
 }
 
+std::vector<std::string> Navigator::place_names() const {
+  std::vector<std::string> names;
+  auto add = [&](const std::string& name) {
+    const std::string plain = normalise_name(name);  // "the sofa" -> "sofa"
+    names.push_back(plain);
+    names.push_back("the " + plain);
+  };
+  for (const Room& r : map_.rooms) add(r.name);
+  for (const Place& p : map_.places) add(p.name);
+  for (const Place& p : map_.people) names.push_back(p.name);
+  if (!map_.owner.empty()) names.push_back("me");
+  return names;
+}
+
 void Navigator::stop() {
   stop_requested_.store(true);
   body_.stop();
@@ -168,8 +182,8 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
       const double err = wrap_angle(std::atan2(to.y, to.x) - pose.heading);
       if (std::fabs(degrees(err)) > options_.aim_deg) {
         driving_forward = false;
-        const std::uint8_t speed = std::fabs(degrees(err)) > 30 ? options_.turn_speed
-                                                                : options_.fine_turn_speed;
+        const std::uint8_t speed =
+            std::fabs(degrees(err)) > 30 ? options_.turn_speed : options_.fine_turn_speed;
         body_.move(err > 0 ? devices::Direction::kLeft : devices::Direction::kRight, speed,
                    move_ms);
         continue;

@@ -28,20 +28,20 @@ namespace marvin::navigation {
 
 struct NavigatorOptions {
   double cell_m = 0.05;
-  double inflate_m = 0.30;          // robot radius 0.15 + 0.15 margin: steering error, drift
-  double waypoint_m = 0.10;         // a waypoint is reached this close
-  double goal_m = 0.15;             // the goal is reached this close
-  double aim_deg = 6;               // turn in place while the bearing is off by more
-  std::uint8_t forward_speed = 150; // 0..255 as the base takes it
+  double inflate_m = 0.30;           // robot radius 0.15 + 0.15 margin: steering error, drift
+  double waypoint_m = 0.10;          // a waypoint is reached this close
+  double goal_m = 0.15;              // the goal is reached this close
+  double aim_deg = 6;                // turn in place while the bearing is off by more
+  std::uint8_t forward_speed = 150;  // 0..255 as the base takes it
   std::uint8_t turn_speed = 90, fine_turn_speed = 45;
-  double stop_m = 0.40;             // something ahead closer than this (horizontal) blocks
-  double clearance_m = 0.60;        // echoes higher than this above the sonar are no obstacle
-  double mark_m = 1.0;              // echoes closer than this (horizontal) go on the map
-  double mark_radius_m = 0.10;      // each as a disc this wide (then inflated)
+  double stop_m = 0.40;         // something ahead closer than this (horizontal) blocks
+  double clearance_m = 0.60;    // echoes higher than this above the sonar are no obstacle
+  double mark_m = 1.0;          // echoes closer than this (horizontal) go on the map
+  double mark_radius_m = 0.10;  // each as a disc this wide (then inflated)
   std::chrono::milliseconds step{100};
   int max_replans = 8;
-  double give_up_after_s = 120;     // robot time for one go_to
-  double time_scale = 1;            // robot seconds per wall second (GoingPlaces::time_scale)
+  double give_up_after_s = 120;  // robot time for one go_to
+  double time_scale = 1;         // robot seconds per wall second (GoingPlaces::time_scale)
 };
 
 class Navigator : public GoingPlaces {
@@ -58,6 +58,7 @@ class Navigator : public GoingPlaces {
   void stop() override;
   std::optional<std::string> where_am_i() override;
   double time_scale() const override { return options_.time_scale; }
+  std::vector<std::string> place_names() const override;
 
   const FloorMap& map() const { return map_; }
   const NavigatorOptions& options() const { return options_; }

@@ -81,8 +81,8 @@ std::optional<std::vector<Vec2>> Planner::plan(const OccupancyGrid& grid, Vec2 f
   heap_.emplace_back(-h(*start), s);
   static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
   static constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-  static constexpr float kCost[8] = {1, 1, 1, 1, 1.41421356f, 1.41421356f, 1.41421356f,
-                                     1.41421356f};
+  static constexpr float kCost[8] = {1,           1,           1,           1,
+                                     1.41421356f, 1.41421356f, 1.41421356f, 1.41421356f};
   bool found = false;
   while (!heap_.empty()) {
     std::pop_heap(heap_.begin(), heap_.end());

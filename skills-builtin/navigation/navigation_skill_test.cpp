@@ -2,10 +2,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
-#include <string>
-
 #include <marvin/testing/mock_robot.hpp>
 #include <marvin/testing/skill_harness.hpp>
+#include <string>
 
 using marvin::testing::SkillHarness;
 

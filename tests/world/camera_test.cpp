@@ -1,11 +1,13 @@
 // The simulated camera: an object's photo lands where the geometry says, scaled by
 // distance, and a wall in between hides it.
+#include "sim/camera.h"
+
 #include <doctest/doctest.h>
 
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
-#include "sim/camera.h"
+#include "sim/sim_runner.h"
 #include "support/files.h"
 
 using marvin::sim::CameraView;
@@ -85,7 +87,8 @@ TEST_CASE("a wall in between hides the photo; tilting the head moves it down") {
   auto up = camera.project(world.objects[0], view);
   REQUIRE(level);
   REQUIRE(up);
-  CHECK(up->y - level->y == doctest::Approx(554.3 * std::tan(20 * marvin::navigation::kPi / 180)).epsilon(0.02));
+  CHECK(up->y - level->y ==
+        doctest::Approx(554.3 * std::tan(20 * marvin::navigation::kPi / 180)).epsilon(0.02));
 }
 
 TEST_CASE("a missing photo is a CameraError naming the file") {
@@ -94,4 +97,19 @@ TEST_CASE("a missing photo is a CameraError naming the file") {
   std::filesystem::remove(dir.path() / "red.png");
   CHECK_THROWS_WITH_AS(SimCamera(world, [] { return CameraView{}; }),
                        doctest::Contains("red.png of \"card\""), marvin::vision::CameraError);
+}
+
+TEST_CASE("the camera of the simulated robot follows its pose and head") {
+  marvin::sim::SimRunner runner(marvin::sim::load_world(marvin::sim::default_world_file()), {},
+                                1.0);
+  SimCamera camera(runner.world(), [&] { return runner.camera_view(); });
+  marvin::vision::Frame first, second;
+  REQUIRE(camera.read(first));
+  runner.move(marvin::devices::Direction::kLeft, 120, std::chrono::milliseconds(800));
+  runner.advance(std::chrono::milliseconds(1000));
+  REQUIRE(camera.read(second));
+  CHECK(second.index == 1);
+  CHECK(second.time_us == 1'000'000);
+  CHECK(cv::norm(first.image, second.image, cv::NORM_L1) > 0);  // it turned: another view
+  CHECK(camera.describe().find("simulated camera") == 0);
 }

@@ -2,6 +2,8 @@
 // navigator drives there on odometry without touching anything; a blocked door is named.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include "navigation/dead_reckoning.h"
 #include "navigation/navigator.h"
 #include "navigation/planner.h"
@@ -21,7 +23,8 @@ marvin::sim::World home() { return marvin::sim::load_world(marvin::sim::default_
 struct Rig {
   explicit Rig(marvin::sim::World world)
       : runner(std::move(world), marvin::sim::SimOptions{}, 1.0),
-        nav(runner.floor_map(), runner, [this] { return runner.odometry(); },
+        nav(
+            runner.floor_map(), runner, [this] { return runner.odometry(); },
             [this] { return runner.sim_scan(); }, [this] { return runner.now_ms(); }) {}
   GoResult go(const std::string& where) {
     return nav.go_to(where, [this](std::chrono::milliseconds ms) {
@@ -36,9 +39,8 @@ double min_clearance_during(Rig& rig, const std::string& where, GoResult* result
   double least = 1e9;
   std::function<bool(std::chrono::milliseconds)> wait = [&](std::chrono::milliseconds ms) {
     bool cancelled = rig.runner.wait(ms, [] { return false; });
-    rig.runner.inspect([&](const marvin::sim::Simulator& s) {
-      least = std::min(least, s.clearance_m(s.pose()));
-    });
+    rig.runner.inspect(
+        [&](const marvin::sim::Simulator& s) { least = std::min(least, s.clearance_m(s.pose())); });
     return cancelled;
   };
   *result = rig.nav.go_to(where, wait);
@@ -177,4 +179,12 @@ TEST_CASE("dead reckoning of the commands sent follows the simulated base it dri
   CHECK(marvin::navigation::distance(truth.position(), start.position()) > 0.5);
   CHECK(marvin::navigation::distance(truth.position(), guess.position()) < 0.02);
   CHECK(std::fabs(marvin::navigation::wrap_angle(truth.heading - guess.heading)) < 0.03);
+}
+
+TEST_CASE("the names a user can say after \"go to\"") {
+  Rig rig(home());
+  const auto names = rig.nav.place_names();
+  for (const char* want : {"kitchen", "the kitchen", "living room", "the sofa", "sofa",
+                           "the front door", "Anna", "me"})
+    CHECK(std::find(names.begin(), names.end(), want) != names.end());
 }

@@ -20,8 +20,9 @@ namespace {
 
 ChildProcess start_marvin(const fs::path& dir, std::vector<std::string> extra) {
   fs::create_directories(dir / "skills");
-  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--skills-dir",
-                                (dir / "skills").string(), "--speed", "20"};
+  std::vector<std::string> argv{
+      MARVIN_EXE, "run", "--sim", "--in-memory", "--skills-dir", (dir / "skills").string(),
+      "--speed",  "20"};
   argv.insert(argv.end(), extra.begin(), extra.end());
   return ChildProcess(argv);
 }
@@ -70,5 +71,26 @@ TEST_CASE("run --sim --world with a broken world file: refused, naming the eleme
   ChildProcess marvin = start_marvin(dir.path(), {"--world", world.string()});
   CHECK(exit_code(marvin.finish()) == 2);
   CHECK(marvin.errors().find("doors[0] \"back door\": 'at' [2, 2] is not on a wall") !=
+        std::string::npos);
+}
+
+TEST_CASE("marvin world render: a PNG of the floor plan with a path; unknown places are named") {
+  marvin::test_support::TempDir dir;
+  const fs::path map = dir.path() / "map.png", view = dir.path() / "view.png";
+  ChildProcess render({MARVIN_EXE, "world", "render", "--out", map.string(), "--to", "kitchen",
+                       "--camera", view.string()});
+  CHECK(exit_code(render.finish()) == 0);
+  CHECK(render.output().find("wrote " + map.string() +
+                             " (5 rooms, 14 pieces of furniture, a path of") != std::string::npos);
+  for (const fs::path& png : {map, view}) {
+    std::ifstream in(png, std::ios::binary);
+    char magic[8] = {};
+    in.read(magic, 8);
+    CHECK(std::string(magic + 1, 3) == "PNG");
+  }
+  ChildProcess unknown(
+      {MARVIN_EXE, "world", "render", "--out", map.string(), "--to", "the garage"});
+  CHECK(exit_code(unknown.finish()) == 1);
+  CHECK(unknown.errors().find("--to: \"the garage\" is not a room, place or person of") !=
         std::string::npos);
 }

@@ -16,7 +16,8 @@ namespace {
 struct Threaded {
   Threaded()
       : runner(marvin::sim::load_world(marvin::sim::default_world_file()), {}, 50.0),
-        nav(runner.floor_map(), runner, [this] { return runner.odometry(); },
+        nav(
+            runner.floor_map(), runner, [this] { return runner.odometry(); },
             [this] { return runner.sim_scan(); }, [this] { return runner.now_ms(); }) {
     runner.start();
   }

@@ -1,10 +1,11 @@
 // The simulated base and sonar against closed-form motion and geometry.
+#include "sim/simulator.h"
+
 #include <doctest/doctest.h>
 
 #include <cmath>
 
 #include "sim/sim_runner.h"
-#include "sim/simulator.h"
 
 using marvin::navigation::kPi;
 using marvin::sim::parse_world;
@@ -76,8 +77,10 @@ TEST_CASE("acceleration is limited") {
 }
 
 TEST_CASE("sonar distances match the geometry, capped at 2.5 m") {
-  Simulator sim(empty_room(R"("furniture": [{"name": "box", "min": [3, 2.5], "max": [3.5, 3.5], "height_m": 0.5}],)"),
-                exact());
+  Simulator sim(
+      empty_room(
+          R"("furniture": [{"name": "box", "min": [3, 2.5], "max": [3.5, 3.5], "height_m": 0.5}],)"),
+      exact());
   // Straight ahead: the box 1 m away.
   CHECK(sim.sonar_geometry_m(sim.pose(), 0) == doctest::Approx(1.0));
   // Angled up 30 degrees: the ray is 0.25 + 1 * tan 30 = 0.83 m high at the box: over it.

@@ -17,7 +17,8 @@ std::string world_with(const std::string& extra) {
   return R"({"format": "marvin-world", "version": 1,
     "rooms": [{"name": "hall", "outline": [[0,0],[4,0],[4,3],[0,3]]},
               {"name": "kitchen", "outline": [[4,0],[8,0],[8,3],[4,3]]}],
-    )" + extra + R"(
+    )" + extra +
+         R"(
     "robot": {"start": [1, 1]}})";
 }
 
@@ -48,28 +49,41 @@ TEST_CASE("the default home loads with its rooms, doors, places and devices") {
 }
 
 TEST_CASE("a valid small world parses; a door cuts its wall") {
-  auto w = parse_world(world_with(R"("doors": [{"name": "kitchen door", "at": [4, 1.5], "rooms": ["hall", "kitchen"]}],)"),
-                       "/tmp/w.json");
+  auto w = parse_world(
+      world_with(
+          R"("doors": [{"name": "kitchen door", "at": [4, 1.5], "rooms": ["hall", "kitchen"]}],)"),
+      "/tmp/w.json");
   CHECK(w.map.doors.size() == 1);
   CHECK(std::min(w.map.doors[0].a.y, w.map.doors[0].b.y) == doctest::Approx(1.05));
 }
 
 TEST_CASE("malformed world files name the element and the field") {
-  CHECK(error_of("{") .find("/tmp/w.json: not valid JSON") == 0);
+  CHECK(error_of("{").find("/tmp/w.json: not valid JSON") == 0);
   CHECK(error_of(R"({"format": "marvin-world", "version": 2})") ==
         "/tmp/w.json: 'version' must be 1 (this Marvin reads world format version 1)");
-  CHECK(error_of(world_with(R"("doors": [{"name": "back door", "at": [2, 1.5], "rooms": ["hall"]}],)")) ==
-        "/tmp/w.json: doors[0] \"back door\": 'at' [2, 1.5] is not on a wall (the nearest wall is 1.5 m away)");
-  CHECK(error_of(world_with(R"("places": [{"name": "the sink", "at": [5, 1], "room": "kitchn"}],)")) ==
-        "/tmp/w.json: places[0] \"the sink\": 'room' \"kitchn\" is not a room of this world (rooms: hall, kitchen)");
-  CHECK(error_of(world_with(R"("objects": [{"name": "keys", "at": [4.01, 1], "room": "kitchen", "photo": "k.jpg"}],)")) ==
-        "/tmp/w.json: objects[0] \"keys\": 'at' [4.01, 1] is inside a wall");
-  CHECK(error_of(world_with(R"("objects": [{"name": "keys", "at": [5, 1], "room": "hall", "photo": "k.jpg"}],)")) ==
+  CHECK(error_of(world_with(
+            R"("doors": [{"name": "back door", "at": [2, 1.5], "rooms": ["hall"]}],)")) ==
+        "/tmp/w.json: doors[0] \"back door\": 'at' [2, 1.5] is not on a wall (the nearest wall is "
+        "1.5 m away)");
+  CHECK(error_of(
+            world_with(R"("places": [{"name": "the sink", "at": [5, 1], "room": "kitchn"}],)")) ==
+        "/tmp/w.json: places[0] \"the sink\": 'room' \"kitchn\" is not a room of this world "
+        "(rooms: hall, kitchen)");
+  CHECK(
+      error_of(world_with(
+          R"("objects": [{"name": "keys", "at": [4.01, 1], "room": "kitchen", "photo": "k.jpg"}],)")) ==
+      "/tmp/w.json: objects[0] \"keys\": 'at' [4.01, 1] is inside a wall");
+  CHECK(error_of(world_with(
+            R"("objects": [{"name": "keys", "at": [5, 1], "room": "hall", "photo": "k.jpg"}],)")) ==
         "/tmp/w.json: objects[0] \"keys\": 'at' [5, 1] is in the kitchen, not the hall");
-  CHECK(error_of(world_with(R"("furniture": [{"name": "table", "min": [3.5, 1], "max": [4.5, 2]}],)"))
-            .find("/tmp/w.json: furniture[0] \"table\": the box from [3.5, 1] to [4.5, 2] is inside a wall") == 0);
-  CHECK(error_of(world_with(R"("devices": [{"name": "lamp", "type": "toaster", "room": "hall"}],)")) ==
-        "/tmp/w.json: devices[0] \"lamp\": 'type' \"toaster\" must be \"light\", \"fan\" or \"switch\"");
+  CHECK(
+      error_of(world_with(R"("furniture": [{"name": "table", "min": [3.5, 1], "max": [4.5, 2]}],)"))
+          .find("/tmp/w.json: furniture[0] \"table\": the box from [3.5, 1] to [4.5, 2] is inside "
+                "a wall") == 0);
+  CHECK(error_of(
+            world_with(R"("devices": [{"name": "lamp", "type": "toaster", "room": "hall"}],)")) ==
+        "/tmp/w.json: devices[0] \"lamp\": 'type' \"toaster\" must be \"light\", \"fan\" or "
+        "\"switch\"");
   CHECK(error_of(world_with(R"("people": [{"name": "Tom", "at": [1, 2], "room": "hall"}],)")) ==
         "/tmp/w.json: people[0] \"Tom\": 'photo' (or 'photos') is missing: the camera shows it");
   CHECK(error_of(R"({"format": "marvin-world", "version": 1,
