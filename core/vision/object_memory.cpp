@@ -151,6 +151,10 @@ std::optional<ObjectMemory::Look> ObjectMemory::load(const std::string& name) {
   look.size.width = take<int32_t>(rec, pos, name);
   look.size.height = take<int32_t>(rec, pos, name);
   const int32_t n = take<int32_t>(rec, pos, name);
+  if (n <= 0 || n > 100000) {
+    throw std::runtime_error("taught object " + name + ": " + std::to_string(n) +
+                             " features in the stored record, expected 1 to 100000");
+  }
   for (int32_t i = 0; i < n; ++i) {
     cv::KeyPoint k;
     k.pt.x = take<float>(rec, pos, name);

@@ -378,3 +378,30 @@ TEST_CASE("a plain thing cannot be taught, and nothing is stored") {
   CHECK(memory.names().empty());
   CHECK_FALSE(store.storage_get("marvin.vision.objects", "object:wall").has_value());
 }
+
+TEST_CASE("marvin people enroll, list and forget through the real program and SQLite file") {
+  TempDir dir;
+  const fs::path good = dir / "anna.png";
+  cv::imwrite(good.string(), read_photo(sample1())(cv::Rect(250, 250, 550, 550)));
+  const std::string marvin = (fs::path(std::getenv("MARVIN_BUILD_DIR")) / "core/app/marvin").string();
+  const std::string data_dir = (dir / "data").string();
+  auto run = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), marvin);
+    args.push_back("--data-dir");
+    args.push_back(data_dir);
+    test_support::ChildProcess p(args);
+    const int code = test_support::exit_code(p.finish());
+    return std::pair{code, p.output() + p.errors()};
+  };
+  const auto enrolled = run({"people", "enroll", "Anna", good.string()});
+  CHECK(enrolled.first == 0);
+  CHECK(contains(enrolled.second, "enrolled Anna from 1 photo"));
+  const auto listed = run({"people", "list"});
+  CHECK(contains(listed.second, "Anna  1 face embedding"));
+  CHECK(contains(listed.second, "last added by cli at "));
+  CHECK(run({"people", "forget", "Anna"}).first == 0);
+  CHECK_FALSE(contains(run({"people", "list"}).second, "Anna"));
+  const auto again = run({"people", "forget", "Anna"});
+  CHECK(again.first == 1);
+  CHECK(contains(again.second, "nobody called Anna is enrolled"));
+}
