@@ -532,6 +532,32 @@ int l_vision_forget(lua_State* L) {
   return 1;
 }
 
+int l_vision_teach(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* name = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "camera", "vision.teach");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, vision_teach_object), "vision.teach");
+  check(L, ctx, "vision.teach", ctx->api->vision_teach_object(ctx->host, name));
+  return 0;
+}
+
+int l_vision_find(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* name = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "camera", "vision.find");
+  need(L, ctx, ctx->api->vision_find_object != nullptr, "vision.find");
+  const marvin_status status = ctx->call_text([ctx, name](marvin_text_out* out) {
+    return ctx->api->vision_find_object(ctx->host, name, out);
+  });
+  if (status == MARVIN_ERR_NOT_FOUND) {
+    lua_pushnil(L);
+    return 1;
+  }
+  check(L, ctx, "vision.find", status);
+  push_json_text(L, ctx, "vision.find");
+  return 1;
+}
+
 void set_functions(lua_State* L, const luaL_Reg* functions) { luaL_setfuncs(L, functions, 0); }
 
 }  // namespace
@@ -583,6 +609,8 @@ void install_marvin_api(lua_State* L, SkillContext* ctx) {
                                     {"photo", l_vision_photo},
                                     {"enroll", l_vision_enroll},
                                     {"forget", l_vision_forget},
+                                    {"teach", l_vision_teach},
+                                    {"find", l_vision_find},
                                     {nullptr, nullptr}};
   set_functions(L, vision);
   Sandbox::make_read_only(L, "marvin.vision");

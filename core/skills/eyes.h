@@ -38,6 +38,12 @@ class Eyes {
   virtual int enroll_face(const std::string& name, int frames, const std::string& who) = 0;
   // False if nobody of that name is enrolled.
   virtual bool forget_face(const std::string& name, const std::string& who) = 0;
+  // "These are my keys": learns the look of what is held up in the middle of the view.
+  // Throws std::invalid_argument (MARVIN_ERR_INVALID) when it is too plain to recognise.
+  virtual void teach_object(const std::string& name) = 0;
+  // {"name", "found": bool, "box": [x, y, w, h]}; nullopt-like "" when `name` was never
+  // taught (MARVIN_ERR_NOT_FOUND).
+  virtual std::string find_object_json(const std::string& name) = 0;
 };
 
 }  // namespace marvin::skills

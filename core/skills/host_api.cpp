@@ -511,9 +511,6 @@ marvin_status unavailable(SkillContext& c, const char* permission, const char* w
   return fail(c, MARVIN_ERR_UNAVAILABLE, std::string(what) + " is not available on this robot yet");
 }
 
-marvin_status api_vision_find_object(marvin_host* host, const char*, marvin_text_out*) {
-  return guarded(host, [&](SkillContext& c) { return unavailable(c, "vision", "vision"); });
-}
 marvin_status api_vision_who_is_there(marvin_host* host, marvin_text_out*) {
   return guarded(host, [&](SkillContext& c) { return unavailable(c, "vision", "vision"); });
 }
@@ -641,6 +638,39 @@ marvin_status api_vision_forget_face(marvin_host* host, const char* name) {
   });
 }
 
+marvin_status api_vision_teach_object(marvin_host* host, const char* name) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, name, "name"));
+    if (*name == '\0') return fail(c, MARVIN_ERR_INVALID, "name is empty");
+    return with_eyes(c, "camera", [&](Eyes& eyes) {
+      try {
+        eyes.teach_object(name);
+      } catch (const std::invalid_argument& e) {
+        return fail(c, MARVIN_ERR_INVALID, e.what());
+      }
+      return MARVIN_OK;
+    });
+  });
+}
+
+marvin_status api_vision_find_object(marvin_host* host, const char* name,
+                                     marvin_text_out* result_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, name, "object_name"));
+    MARVIN_TRY(need_out(c, result_json));
+    // "vision" is the 1.0 name of this capability; "camera" the 1.2 one.
+    const char* permission = c.has_permission("vision") ? "vision" : "camera";
+    return with_eyes(c, permission, [&](Eyes& eyes) {
+      const std::string found = eyes.find_object_json(name);
+      if (found.empty()) {
+        return fail(c, MARVIN_ERR_NOT_FOUND,
+                    std::string("nothing called ") + name + " was shown to the robot");
+      }
+      return write_text(result_json, found);
+    });
+  });
+}
+
 }  // namespace
 
 std::int64_t system_now_ms() {
@@ -725,6 +755,7 @@ const marvin_robot_api* host_robot_api() {
     a.vision_capture_photo = api_vision_capture_photo;
     a.vision_enroll_face = api_vision_enroll_face;
     a.vision_forget_face = api_vision_forget_face;
+    a.vision_teach_object = api_vision_teach_object;
     a.go_to = api_go_to;
     a.go_stop = api_go_stop;
     a.where_am_i = api_where_am_i;

@@ -60,4 +60,25 @@ bool ScriptedEyes::forget_face(const std::string& name, const std::string&) {
   return true;
 }
 
+void ScriptedEyes::teach_object(const std::string& name) {
+  check_working();
+  if (std::find(taught_.begin(), taught_.end(), name) == taught_.end()) taught_.push_back(name);
+  action_("teach_object " + name);
+}
+
+std::string ScriptedEyes::find_object_json(const std::string& name) {
+  check_working();
+  nlohmann::json out = {{"name", name}, {"found", false}};
+  bool known = std::find(taught_.begin(), taught_.end(), name) != taught_.end();
+  for (const auto& o : view_["objects"]) {
+    if (o.value("label", "") == name) {
+      known = true;
+      out["found"] = true;
+      out["box"] = o.value("box", nlohmann::json::array());
+      break;
+    }
+  }
+  return known ? out.dump() : "";
+}
+
 }  // namespace marvin::skills

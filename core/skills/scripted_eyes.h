@@ -27,6 +27,9 @@ class ScriptedEyes final : public Eyes {
   std::string capture_photo(const std::string& skill_id) override;
   int enroll_face(const std::string& name, int frames, const std::string& who) override;
   bool forget_face(const std::string& name, const std::string& who) override;
+  // Teaching records the name; finding looks for an object of that label in the view.
+  void teach_object(const std::string& name) override;
+  std::string find_object_json(const std::string& name) override;
 
  private:
   void check_working() const;
@@ -35,6 +38,7 @@ class ScriptedEyes final : public Eyes {
   nlohmann::json view_ = {{"faces", nlohmann::json::array()}, {"objects", nlohmann::json::array()}};
   std::string failure_;
   std::vector<std::string> enrolled_;
+  std::vector<std::string> taught_;
   int photos_ = 0;
 };
 

@@ -1,5 +1,6 @@
 #include "vision/vision_eyes.h"
 
+#include <algorithm>
 #include <chrono>
 #include <nlohmann/json.hpp>
 
@@ -8,6 +9,7 @@
 #include "vision/cameras.h"
 #include "vision/face_gallery.h"
 #include "vision/model_files.h"
+#include "vision/object_memory.h"
 
 namespace marvin::vision {
 
@@ -63,10 +65,18 @@ std::string VisionEyes::look_json() {
                      {"box", {f.box.x, f.box.y, f.box.width, f.box.height}},
                      {"distance", m.distance}});
   }
+  nlohmann::json objects = nlohmann::json::array();
+  if (store_) {
+    for (const auto& o : ObjectMemory(*store_).find_all(frame.image)) {
+      objects.push_back({{"label", o.name},
+                         {"box", {o.box.x, o.box.y, o.box.width, o.box.height}},
+                         {"score", 1.0}});
+    }
+  }
   return nlohmann::json{{"width", frame.image.cols},
                         {"height", frame.image.rows},
                         {"faces", faces},
-                        {"objects", nlohmann::json::array()}}
+                        {"objects", objects}}
       .dump();
 }
 
@@ -111,6 +121,30 @@ bool VisionEyes::forget_face(const std::string& name, const std::string& who) {
   std::lock_guard lock(mutex_);
   if (!store_) return false;
   return FaceGallery(*store_).forget(name, who);
+}
+
+void VisionEyes::teach_object(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  if (!store_) {
+    throw skills::EyesUnavailable("learning an object needs the SQLite store (not --in-memory)");
+  }
+  const Frame frame = grab();
+  ObjectMemory(*store_).teach(name, frame.image);
+}
+
+std::string VisionEyes::find_object_json(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  if (!store_) return "";
+  ObjectMemory memory(*store_);
+  const auto names = memory.names();
+  if (std::find(names.begin(), names.end(), name) == names.end()) return "";
+  const Frame frame = grab();
+  nlohmann::json out = {{"name", name}, {"found", false}};
+  if (const auto seen = memory.find(name, frame.image)) {
+    out["found"] = true;
+    out["box"] = {seen->box.x, seen->box.y, seen->box.width, seen->box.height};
+  }
+  return out.dump();
 }
 
 }  // namespace marvin::vision

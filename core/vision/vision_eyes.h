@@ -29,6 +29,8 @@ class VisionEyes final : public skills::Eyes {
   std::string capture_photo(const std::string& skill_id) override;
   int enroll_face(const std::string& name, int frames, const std::string& who) override;
   bool forget_face(const std::string& name, const std::string& who) override;
+  void teach_object(const std::string& name) override;
+  std::string find_object_json(const std::string& name) override;
 
  private:
   Frame grab();  // throws EyesUnavailable

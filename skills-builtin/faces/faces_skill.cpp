@@ -5,6 +5,8 @@
 //   "this is Anna" / "remember this face as Anna"
 //        -> asks "Shall I remember this face as Anna?"; only a yes enrols (from 5 frames)
 //   "forget Anna's face"     -> removes Anna and every embedding of her face
+//   "these are my keys"      -> learns the look of what is held up to the camera
+//   "do you see my keys?"    -> "Yes, I see your keys." / "No, I don't see your keys."
 // Consent: enrolment happens only after the spoken yes (the owner's: Marvin cannot yet tell
 // voices apart) or through `marvin people enroll`; no photo is stored, only the numbers.
 #include <cctype>
@@ -72,6 +74,8 @@ class FacesSkill : public marvin::Skill {
       else if (r.intent == "what_do_you_see") what_do_you_see();
       else if (r.intent == "enroll") enroll(person_name(r.slots.at("name").get<std::string>()));
       else if (r.intent == "forget") forget(person_name(r.slots.at("name").get<std::string>()));
+      else if (r.intent == "teach_object") teach_object(lower(r.slots.at("thing").get<std::string>()));
+      else if (r.intent == "find_object") find_object(lower(r.slots.at("thing").get<std::string>()));
     } catch (const marvin::Error& e) {
       if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
       robot().log(MARVIN_LOG_WARNING, e.what());
@@ -125,6 +129,29 @@ class FacesSkill : public marvin::Skill {
       throw;
     }
     robot().say("Nice to meet you, " + name + ". I'll remember your face.");
+  }
+
+  void teach_object(const std::string& thing) {
+    try {
+      robot().vision_teach_object(thing);
+    } catch (const marvin::Error& e) {
+      if (e.status() != MARVIN_ERR_INVALID) throw;
+      robot().say("I can't make out your " + thing + ". Please hold them closer, in front of me.");
+      return;
+    }
+    robot().say("OK, I'll remember what your " + thing + " look like.");
+  }
+
+  void find_object(const std::string& thing) {
+    const auto found = robot().vision_find_object(thing);
+    if (!found) {
+      robot().say("I don't know what your " + thing + " look like. Show them to me and say "
+                  "\"these are my " + thing + "\".");
+    } else if (found->value("found", false)) {
+      robot().say("Yes, I see your " + thing + ".");
+    } else {
+      robot().say("No, I don't see your " + thing + ".");
+    }
   }
 
   void forget(const std::string& name) {

@@ -56,3 +56,16 @@ TEST_CASE("what do you see; a camera that fails is said plainly") {
         "Sorry, I can't see anything right now: my camera is not working.");
   CHECK(h.robot().enrolled_faces().empty());
 }
+
+TEST_CASE("these are my keys; do you see my keys") {
+  marvin::testing::SkillHarness h(FACES_SKILL_DIR);
+  h.robot().set_camera_view(R"({"faces":[]})");
+  CHECK(h.say("do you see my keys") ==
+        Lines{"I don't know what your keys look like. Show them to me and say \"these are my keys\"."});
+  CHECK(h.say("these are my keys") == Lines{"OK, I'll remember what your keys look like."});
+  CHECK(h.say("do you see my keys") == Lines{"No, I don't see your keys."});
+  h.robot().set_camera_view(R"({"faces":[],"objects":[{"label":"keys","box":[5,5,40,20]}]})");
+  CHECK(h.say("can you see my keys") == Lines{"Yes, I see your keys."});
+  const Lines& actions = h.robot().actions();
+  CHECK(std::count(actions.begin(), actions.end(), "teach_object keys") == 1);
+}

@@ -23,6 +23,7 @@
 #include "vision/face_gallery.h"
 #include "vision/face_pipeline.h"
 #include "vision/model_files.h"
+#include "vision/object_memory.h"
 #include "vision/tensor_file.h"
 #include "vision/vision_nodes.h"
 
@@ -331,4 +332,76 @@ TEST_CASE("a folder of real photos runs through the whole face graph") {
   REQUIRE(seen[0].faces.size() == 3);
   CHECK(face_at(seen[0].faces, kSample1Faces[0]).name == "Anna");
   CHECK(face_at(seen[0].faces, kSample1Faces[1]).name.empty());
+}
+
+TEST_CASE("teach by showing: a taught region is found again turned and smaller, after a reopen") {
+  TempDir dir;
+  const cv::Mat image = read_photo(sample1());
+  const cv::Rect region(330, 320, 320, 320);  // the first woman's head and hair
+  {
+    data::SqliteStore store(store_at(dir / "marvin.db"));
+    ObjectMemory(store).teach("my photo", image, region);
+  }
+  data::SqliteStore store(store_at(dir / "marvin.db"));
+  ObjectMemory memory(store);
+  CHECK(memory.names() == std::vector<std::string>{"my photo"});
+  // The whole picture turned by 20 degrees about its centre and scaled to 70%.
+  const cv::Point2f centre(static_cast<float>(image.cols) / 2, static_cast<float>(image.rows) / 2);
+  const cv::Mat m = cv::getRotationMatrix2D(centre, 20, 0.7);
+  cv::Mat turned;
+  cv::warpAffine(image, turned, m, image.size());
+  const auto seen = memory.find("my photo", turned);
+  REQUIRE(seen.has_value());
+  CHECK(seen->inliers >= ObjectMemory::kMinInliers);
+  std::vector<cv::Point2f> expected;
+  cv::transform(std::vector<cv::Point2f>{{490, 480}}, expected, m);
+  const cv::Point2f found(seen->box.x + seen->box.width / 2, seen->box.y + seen->box.height / 2);
+  CHECK(cv::norm(found - expected[0]) < 30);
+  // Not in a photo of other people.
+  const cv::Mat other = read_photo(source_dir() / ".cache/vision/photos/sample3.jpg");
+  CHECK_FALSE(memory.find("my photo", other).has_value());
+  CHECK(memory.find_all(turned).size() == 1);
+  CHECK(memory.forget("my photo"));
+  CHECK(memory.names().empty());
+  CHECK(contains(error_of([&] { (void)memory.find("my photo", turned); }),
+                 "no object called my photo"));
+}
+
+TEST_CASE("a plain thing cannot be taught, and nothing is stored") {
+  TempDir dir;
+  data::SqliteStore store(store_at(dir / "marvin.db"));
+  ObjectMemory memory(store);
+  const cv::Mat plain(480, 640, CV_8UC3, cv::Scalar(90, 90, 90));
+  CHECK(contains(error_of([&] { memory.teach("wall", plain); }), "wall looks too plain"));
+  CHECK(contains(error_of([&] { memory.teach("x", plain, cv::Rect(600, 400, 100, 100)); }),
+                 "outside the picture"));
+  CHECK(memory.names().empty());
+  CHECK_FALSE(store.storage_get("marvin.vision.objects", "object:wall").has_value());
+}
+
+TEST_CASE("marvin people enroll, list and forget through the real program and SQLite file") {
+  TempDir dir;
+  const fs::path good = dir / "anna.png";
+  cv::imwrite(good.string(), read_photo(sample1())(cv::Rect(250, 250, 550, 550)));
+  const std::string marvin = (fs::path(std::getenv("MARVIN_BUILD_DIR")) / "core/app/marvin").string();
+  const std::string data_dir = (dir / "data").string();
+  auto run = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), marvin);
+    args.push_back("--data-dir");
+    args.push_back(data_dir);
+    test_support::ChildProcess p(args);
+    const int code = test_support::exit_code(p.finish());
+    return std::pair{code, p.output() + p.errors()};
+  };
+  const auto enrolled = run({"people", "enroll", "Anna", good.string()});
+  CHECK(enrolled.first == 0);
+  CHECK(contains(enrolled.second, "enrolled Anna from 1 photo"));
+  const auto listed = run({"people", "list"});
+  CHECK(contains(listed.second, "Anna  1 face embedding"));
+  CHECK(contains(listed.second, "last added by cli at "));
+  CHECK(run({"people", "forget", "Anna"}).first == 0);
+  CHECK_FALSE(contains(run({"people", "list"}).second, "Anna"));
+  const auto again = run({"people", "forget", "Anna"});
+  CHECK(again.first == 1);
+  CHECK(contains(again.second, "nobody called Anna is enrolled"));
 }

@@ -132,6 +132,9 @@ typedef struct marvin_robot_api {
   int (*is_cancelled)(marvin_host* host);
 
   /* --- later capabilities: present now, MARVIN_ERR_UNAVAILABLE until they land ---- */
+  /* Since API 1.2 (permission "camera" or "vision"): whether an object taught with
+   * vision_teach_object is in view now: {"name", "found": true|false, "box": [x, y, w, h]}.
+   * MARVIN_ERR_NOT_FOUND if nothing of that name was taught. */
   marvin_status (*vision_find_object)(marvin_host* host, const char* object_name,
                                       marvin_text_out* result_json);
   marvin_status (*vision_who_is_there)(marvin_host* host, marvin_text_out* people_json);
@@ -185,6 +188,10 @@ typedef struct marvin_robot_api {
   /* "Forget Anna's face": removes the person and every embedding of their face.
    * MARVIN_ERR_NOT_FOUND if nobody of that name is enrolled. Permission "faces". */
   marvin_status (*vision_forget_face)(marvin_host* host, const char* name);
+  /* "These are my keys": learns the look of the thing held up in the middle of the view
+   * (its features, not a photo) so vision_find_object can find it later.
+   * MARVIN_ERR_INVALID when it is too plain to recognise. Permission "camera". */
+  marvin_status (*vision_teach_object)(marvin_host* host, const char* name);
 
   /* --- since API 1.2: going places -----------------------------------------------
    * The robot plans a path on its floor plan and drives it, stopping and re-planning

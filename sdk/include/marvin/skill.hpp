@@ -220,6 +220,23 @@ class Robot {
     std::string n = str(name);
     check(fn(&marvin_robot_api::vision_forget_face, "vision_forget_face")(host_, n.c_str()));
   }
+  // "These are my keys": learns the look of what is held up in the middle of the view.
+  void vision_teach_object(std::string_view name) {
+    std::string n = str(name);
+    check(fn(&marvin_robot_api::vision_teach_object, "vision_teach_object")(host_, n.c_str()));
+  }
+  // {"name", "found", "box"} for a taught object; nullopt if it was never taught.
+  std::optional<nlohmann::json> vision_find_object(std::string_view name) {
+    std::string n = str(name);
+    auto call = fn(&marvin_robot_api::vision_find_object, "vision_find_object");
+    try {
+      return nlohmann::json::parse(
+          text([&](marvin_text_out* out) { return call(host_, n.c_str(), out); }));
+    } catch (const Error& e) {
+      if (e.status() == MARVIN_ERR_NOT_FOUND) return std::nullopt;
+      throw;
+    }
+  }
 
   // This skill's own key-value storage. storage_get returns nullopt for a missing key.
   std::optional<std::string> storage_get(std::string_view key) {
