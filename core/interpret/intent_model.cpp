@@ -10,7 +10,7 @@
 namespace marvin::interpret {
 namespace {
 
-constexpr int kEpochs = 12;
+constexpr int kEpochs = 30;
 constexpr float kLearningRate = 0.4F;
 constexpr float kL2 = 1e-5F;
 
@@ -24,7 +24,14 @@ std::vector<std::string> feature_strings(const std::vector<std::string>& words) 
   for (const std::string& w : words) tokens.push_back(model_token(w));
   std::vector<std::string> out;
   out.reserve(tokens.size() * 2 + 2);
-  for (const std::string& t : tokens) out.push_back("u " + t);
+  for (const std::string& t : tokens) {
+    out.push_back("u " + t);
+    // Character 4-grams: unseen forms of known words ("schedules", "scheduling") still count.
+    if (t.size() >= 4 && t[0] != '#') {
+      std::string marked = "<" + t + ">";
+      for (std::size_t i = 0; i + 4 <= marked.size(); ++i) out.push_back("c " + marked.substr(i, 4));
+    }
+  }
   std::string previous = "<s>";
   for (const std::string& t : tokens) {
     out.push_back("b " + previous + " " + t);

@@ -277,7 +277,8 @@ constexpr std::size_t kMaxUnderstoodWords = 64;
 constexpr std::size_t kExpansionsPerTemplate = 24;
 constexpr std::size_t kTolerantCandidates = 3;
 // Decision thresholds, measured on requests written by other people (core/interpret/README.md).
-constexpr float kAcceptProbability = 0.5F;
+constexpr float kAcceptProbability = 0.4F;
+constexpr float kNoneRatio = 2.0F;  // the top intent must be twice as likely as out of scope
 constexpr float kAcceptWithTemplate = 0.25F;  // when a template parses at a low cost
 constexpr float kLowTemplateCost = 1.5F;
 constexpr float kAskEach = 0.2F;
@@ -627,13 +628,14 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   const float p1 = p[order[0]];
   const float p2 = order.size() > 1 ? p[order[1]] : 0.0F;
   const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost;
-  if (p1 > p_none && (p1 >= kAcceptProbability || (low_cost && p1 >= kAcceptWithTemplate))) {
+  if (p1 > p_none * kNoneRatio && (p1 >= kAcceptProbability || (low_cost && p1 >= kAcceptWithTemplate))) {
     u.match = reading(0);
     u.outcome = Understanding::Outcome::kMatch;
     u.reason = p1 >= kAcceptProbability ? "the model is sure" : "close template and model agree";
     return u;
   }
-  if (p2 >= kAskEach && p1 + p2 >= kAskTogether && p1 > p_none && p2 > p_none) {
+  if (p2 >= kAskEach && p1 + p2 >= kAskTogether && p1 > p_none * kNoneRatio &&
+      p2 > p_none * kNoneRatio) {
     u.choices = {reading(0), reading(1)};
     u.outcome = Understanding::Outcome::kAsk;
     u.reason = "two intents are close";
