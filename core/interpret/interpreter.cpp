@@ -279,7 +279,8 @@ constexpr std::size_t kTolerantCandidates = 3;
 // Decision thresholds, measured on requests written by other people (core/interpret/README.md).
 constexpr float kAcceptProbability = 0.4F;
 constexpr float kNoneRatio = 2.0F;  // the top intent must be twice as likely as out of scope
-constexpr float kAcceptWithTemplate = 0.25F;  // when a template parses at a low cost
+constexpr float kAcceptWithTemplate = 0.15F;  // when a template parses at a low cost
+constexpr float kNoneRatioWithTemplate = 0.4F;
 constexpr float kLowTemplateCost = 1.5F;
 constexpr float kAskEach = 0.2F;
 constexpr float kAskTogether = 0.6F;
@@ -465,8 +466,10 @@ std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
     for (const CompiledTemplate& compiled : intent.templates) {
       for (auto& sentence :
            TemplateExpander(compiled, words_by_id, samples, kExpansionsPerTemplate).run()) {
-        add_synonym_variants(sentence, intent.spec.synonyms, label, sentences);
-        sentences.push_back({std::move(sentence), label});
+        // Trained on what understand() will look at: the request without politeness.
+        std::vector<std::string> request = strip_politeness(sentence);
+        add_synonym_variants(request, intent.spec.synonyms, label, sentences);
+        sentences.push_back({std::move(request), label});
       }
     }
     for (const std::string& example : intent.spec.examples) {
@@ -611,7 +614,27 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   auto at = std::find_if(u.ranking.begin(), u.ranking.end(),
                          [&](const RankedIntent& r) { return r.probability < p_none; });
   u.ranking.insert(at, none);
-  if (u.outcome == Understanding::Outcome::kMatch) return u;
+  if (u.outcome == Understanding::Outcome::kMatch) {
+    // A word-for-word match through a free-text slot can be the wrong skill ("remind me
+    // about the meeting" fits medication's "remind me about {medicine}"): another skill's
+    // intent the model is sure of, and whose template fits closely, wins.
+    const CompiledIntent& top = impl.intents[order.front()];
+    const auto chosen = std::find_if(order.begin(), order.end(), [&](std::size_t k) {
+      return impl.intents[k].spec.skill_id == u.match->skill_id &&
+             impl.intents[k].spec.intent == u.match->intent;
+    });
+    if (top.spec.skill_id != u.match->skill_id && parses[0] &&
+        parses[0]->cost <= kLowTemplateCost && p[order.front()] >= kAcceptProbability &&
+        chosen != order.end() && p[order.front()] > p[*chosen] + kModelOverridesExact) {
+      Match m = impl.to_match(top, parses[0]->slots);
+      m.confidence = p[order.front()];
+      m.cost = parses[0]->cost;
+      m.literal_words = parses[0]->literal_words;
+      u.match = std::move(m);
+      u.reason = "the model prefers another skill's close template";
+    }
+    return u;
+  }
   if (order.empty()) {
     u.reason = "no intents";
     return u;
@@ -628,7 +651,8 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   const float p1 = p[order[0]];
   const float p2 = order.size() > 1 ? p[order[1]] : 0.0F;
   const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost;
-  if (p1 > p_none * kNoneRatio && (p1 >= kAcceptProbability || (low_cost && p1 >= kAcceptWithTemplate))) {
+  if ((p1 > p_none * kNoneRatio && p1 >= kAcceptProbability) ||
+      (low_cost && p1 >= kAcceptWithTemplate && p1 >= p_none * kNoneRatioWithTemplate)) {
     u.match = reading(0);
     u.outcome = Understanding::Outcome::kMatch;
     u.reason = p1 >= kAcceptProbability ? "the model is sure" : "close template and model agree";

@@ -10,7 +10,9 @@ namespace marvin::interpret {
 namespace {
 
 // Leading phrases, longest first within each shared start (the first that fits is taken).
-constexpr std::array<std::string_view, 36> kLeading{
+constexpr std::array<std::string_view, 45> kLeading{
+    "can you tell me", "could you tell me", "would you tell me", "will you tell me",
+    "do you know", "i want to know", "i would like to know", "i need to know", "let me know",
     "hey marvin", "ok marvin", "okay marvin", "hello marvin", "marvin",
     "could you please", "can you please", "would you please", "will you please",
     "could you kindly", "would you mind", "could you", "can you", "would you", "will you",

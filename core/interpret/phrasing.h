@@ -1,6 +1,6 @@
 // What people add around a request: wake word, politeness and filler.
 //
-// strip_politeness() drops, at the start, "hey", "marvin", "ok", "so", "please", "could you",
+// strip_politeness() drops, at the start, "hey", "marvin", "ok", "so", "please", "could you [tell me]", "do you know",
 // "can you [please]", "would you", "will you", "i need you to", "i want you to", "i would like
 // you to", "go ahead and", "just", ..., and at the end "please", "for me", "thanks", "thank
 // you", "marvin", repeatedly ("hey marvin, could you please ..."). Words are normalised
