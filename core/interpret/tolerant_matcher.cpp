@@ -57,6 +57,15 @@ class TolerantRun {
             with(cost, 1, [&] { step(pc + 1, pos + 1); });
           }
           with(TolerantCosts::kExtraWord, 0, [&] { step(pc, pos + 1); });
+          // Two template words said the other way round: "what time it is".
+          const Instruction& next = program_[static_cast<std::size_t>(pc) + 1];
+          if (pos + 1 < n && next.op == Instruction::Op::kWord) {
+            float first = word_cost(next.a, pos);
+            float second = word_cost(in.a, pos + 1);
+            if (first >= 0 && second >= 0) {
+              with(TolerantCosts::kSwap + first + second, 2, [&] { step(pc + 2, pos + 2); });
+            }
+          }
         }
         with(TolerantCosts::kMissingWord, 0, [&] { step(pc + 1, pos); });
         return;

@@ -1,10 +1,12 @@
 // Template matching that forgives what people add and leave out, at a cost.
 //
-// The same compiled template program as matcher.h, run with four more moves, each with a
+// The same compiled template program as matcher.h, run with more moves, each with a
 // cost (lower is better; an exact parse costs 0):
 //   extra word      an utterance word the template does not have (before, after or inside:
 //                   "could you tell me the time please") .................. kExtraWord
 //   missing word    a template word the utterance does not say ............ kMissingWord
+//   swapped words   two adjacent template words in the other order ("what time it is")
+//                   ......................................................... kSwap
 //   missing slot    a slot the utterance does not fill (asked for later) ... kMissingSlot
 //   stem / synonym  "reminders" for "reminder" (Snowball stem), "alarm" for "reminder" (a
 //                   synonym the skill declares, or a built-in one) ....... kStem, kSynonym
@@ -27,6 +29,7 @@ struct TolerantCosts {
   static constexpr float kExtraWord = 1.0F;
   static constexpr float kMissingWord = 1.25F;
   static constexpr float kMissingSlot = 1.0F;
+  static constexpr float kSwap = 0.5F;
   static constexpr float kStem = 0.25F;
   static constexpr float kSynonym = 0.5F;
   static constexpr float kMaxCost = 5.0F;
