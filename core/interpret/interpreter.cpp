@@ -658,8 +658,7 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     u.reason = p1 >= kAcceptProbability ? "the model is sure" : "close template and model agree";
     return u;
   }
-  if (p2 >= kAskEach && p1 + p2 >= kAskTogether && p1 > p_none * kNoneRatio &&
-      p2 > p_none * kNoneRatio) {
+  if (p2 >= kAskEach && p1 + p2 >= kAskTogether && p1 + p2 > p_none * kNoneRatio) {
     u.choices = {reading(0), reading(1)};
     u.outcome = Understanding::Outcome::kAsk;
     u.reason = "two intents are close";
