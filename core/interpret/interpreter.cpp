@@ -552,7 +552,7 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return p[a] > p[b]; });
 
-  // 1. A template that covers the words exactly (as said, then without the politeness).
+  // 1. A template that covers the words exactly (without the politeness, then as said).
   std::vector<std::string> spoken = u.words;
   if (spoken.size() >= 2 && (spoken[0] == "hey" || spoken[0] == "ok" || spoken[0] == "okay") &&
       spoken[1] == "marvin") {
@@ -560,7 +560,8 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   } else if (spoken.size() >= 2 && spoken[0] == "marvin") {
     spoken.erase(spoken.begin());
   }
-  for (const auto* words : {&spoken, &u.request}) {
+  // The request first, so a text slot does not take the politeness ("... my glasses please").
+  for (const auto* words : {&u.request, &spoken}) {
     auto exact = impl.exact_matches(*words, context);
     std::optional<std::size_t> best;
     for (std::size_t k = 0; k < exact.size(); ++k) {
