@@ -10,7 +10,11 @@
 namespace marvin::interpret {
 namespace {
 
-constexpr int kEpochs = 30;
+// Passes over the data: 30 for a robot's usual few thousand sentences, fewer for many skills
+// so a build stays well under a second (about kUpdateBudget sentence updates in all).
+constexpr int kMaxEpochs = 30;
+constexpr int kMinEpochs = 4;
+constexpr std::size_t kUpdateBudget = 60000;
 constexpr float kLearningRate = 0.4F;
 constexpr float kL2 = 1e-5F;
 
@@ -97,7 +101,9 @@ IntentModel IntentModel::train(const std::vector<LabelledSentence>& sentences, i
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::mt19937 random(20261125U);
   std::vector<float> scores(c);
-  for (int epoch = 0; epoch < kEpochs; ++epoch) {
+  const int epochs = static_cast<int>(std::clamp<std::size_t>(
+      kUpdateBudget / sentences.size(), kMinEpochs, kMaxEpochs));
+  for (int epoch = 0; epoch < epochs; ++epoch) {
     // Fisher-Yates with our own index draws: std::shuffle's use of the engine is
     // implementation-defined.
     for (std::size_t i = order.size(); i > 1; --i) {

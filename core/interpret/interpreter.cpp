@@ -274,7 +274,10 @@ std::optional<SlotValue> Interpreter::parse_slot(const SlotSpec& slot, std::stri
 namespace {
 
 constexpr std::size_t kMaxUnderstoodWords = 64;
-constexpr std::size_t kExpansionsPerTemplate = 24;
+// Training sentences drawn from one intent's templates (spread over its templates).
+constexpr std::size_t kExpansionsPerIntent = 96;
+constexpr std::size_t kMinExpansionsPerTemplate = 6;
+constexpr std::size_t kMaxExpansionsPerTemplate = 24;
 constexpr std::size_t kTolerantCandidates = 3;
 // Decision thresholds, measured on requests written by other people (core/interpret/README.md).
 constexpr float kAcceptProbability = 0.4F;
@@ -463,9 +466,12 @@ std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
 
     std::vector<std::vector<std::vector<std::string>>> samples;
     for (const PreparedSlot& slot : intent.slots) samples.push_back(slot_samples(slot));
+    const std::size_t per_template =
+        std::clamp(kExpansionsPerIntent / intent.templates.size(), kMinExpansionsPerTemplate,
+                   kMaxExpansionsPerTemplate);
     for (const CompiledTemplate& compiled : intent.templates) {
       for (auto& sentence :
-           TemplateExpander(compiled, words_by_id, samples, kExpansionsPerTemplate).run()) {
+           TemplateExpander(compiled, words_by_id, samples, per_template).run()) {
         // Trained on what understand() will look at: the request without politeness.
         std::vector<std::string> request = strip_politeness(sentence);
         add_synonym_variants(request, intent.spec.synonyms, label, sentences);

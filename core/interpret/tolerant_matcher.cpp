@@ -5,7 +5,7 @@
 namespace marvin::interpret {
 namespace {
 
-constexpr int kTolerantStepBudget = 40000;
+constexpr int kTolerantStepBudget = 8000;
 
 class TolerantRun {
  public:
