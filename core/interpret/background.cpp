@@ -174,3 +174,48 @@ const std::vector<std::string>& background_sentences() {
 }
 
 }  // namespace marvin::interpret
+
+namespace marvin::interpret {
+
+// Written for Marvin: answers to a yes/no question and requests to hear the last thing
+// again, as people phrase them beyond the fixed words builtins.cpp knows.
+const std::vector<std::string>& dialogue_sentences(Builtin kind) {
+  static const std::vector<std::string> yes{
+      "yes please", "yeah sure", "that's right", "you got it", "correct", "that is correct",
+      "sure thing", "of course", "definitely", "i'd say yes", "yes that's it", "exactly right",
+      "right on", "that's true", "true", "indeed", "i agree", "agreed", "you are right",
+      "that's what i said", "mhm yes", "absolutely yes", "i confirm", "confirmed",
+      "that works", "sounds good to me", "fine by me", "why not", "go for it", "yes go on",
+      "that is accurate", "precisely", "my answer is yes", "that's the one", "affirmative",
+      "it is true", "totally", "you bet", "for sure", "okay do that"};
+  static const std::vector<std::string> no{
+      "no thanks", "nope", "no way", "not at all", "absolutely not", "that's wrong",
+      "that is not right", "incorrect", "wrong", "false", "i don't think so", "nah",
+      "no that's not it", "negative", "not really", "i disagree", "no i don't want that",
+      "please don't", "definitely not", "by no means", "not true", "that's not correct",
+      "no that's false", "my answer is no", "i said no", "not this time", "i'll pass",
+      "rather not", "no need", "don't do that", "no it isn't", "that's not what i meant",
+      "no chance", "not at the moment", "nope not that", "never", "that's a no",
+      "not right", "i do not agree", "no sorry"};
+  static const std::vector<std::string> repeat{
+      "repeat that", "say that again", "come again", "sorry what did you say", "pardon me",
+      "could you repeat yourself", "what was that", "i didn't catch that", "i didn't hear you",
+      "one more time please", "can you say it again", "repeat the last thing you said",
+      "what did you just say", "say it once more", "i missed that", "please repeat",
+      "repeat your question", "what was the question", "huh what", "sorry i did not hear",
+      "again please", "could you say that one more time", "i didn't get what you said",
+      "tell me that again", "what did you ask me", "say again", "run that by me again",
+      "i couldn't hear you", "speak again please", "what were you saying",
+      "excuse me what was that", "repeat what you just said", "can you repeat the answer",
+      "i did not understand you", "once again please"};
+  switch (kind) {
+    case Builtin::kYes:
+      return yes;
+    case Builtin::kNo:
+      return no;
+    default:
+      return repeat;
+  }
+}
+
+}  // namespace marvin::interpret

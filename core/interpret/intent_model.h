@@ -16,6 +16,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "interpret/interpreter.h"
+
 namespace marvin::interpret {
 
 struct LabelledSentence {
@@ -51,5 +53,9 @@ std::string model_token(const std::string& word);
 // Out-of-scope requests (weather, music, recipes, trivia, banking, ...) written for Marvin;
 // they teach the model what "none of the skills" looks like.
 const std::vector<std::string>& background_sentences();
+
+// Answers people give in a dialogue (yes, no, say that again), as the model learns them:
+// kYes, kNo, kRepeat (anything else gives the kRepeat list).
+const std::vector<std::string>& dialogue_sentences(Builtin kind);
 
 }  // namespace marvin::interpret

@@ -28,6 +28,10 @@ constexpr std::array<std::pair<SlotType, const char*>, 6> kSlotTypeNames{{
     {SlotType::kText, "text"},
 }};
 
+// A dialogue answer in other words is short; the model must be this sure of it.
+constexpr std::size_t kMaxDialogueWords = 12;
+constexpr float kDialogueProbability = 0.5F;
+
 // Longer utterances are never a request (a 1 MB line is answered at once).
 constexpr std::size_t kMaxExactWords = 64;
 
@@ -93,6 +97,9 @@ struct ModelState {
   std::vector<std::string> word_stems;    // vocabulary id -> stem
   std::vector<SynonymTable> synonyms;     // per intent (same order as Impl::intents)
   int none_class = 0;                     // the out-of-scope class (= number of intents)
+  // Then the dialogue answers: none_class + 1, + 2, + 3.
+  static constexpr std::array<Builtin, 3> kDialogue{Builtin::kYes, Builtin::kNo,
+                                                    Builtin::kRepeat};
 };
 
 struct Interpreter::Impl {
@@ -199,7 +206,22 @@ std::vector<std::string> Interpreter::conflicts() const {
 }
 
 Builtin Interpreter::builtin(std::string_view utterance) const {
-  return classify_builtin(utterance);
+  Builtin fixed = classify_builtin(utterance);
+  if (fixed != Builtin::kNone) return fixed;
+  // Yes, no and repeat said in other words ("you got it", "i didn't catch that"): when the
+  // model is sure. Stop is never guessed: only its fixed words stop things.
+  std::vector<std::string> words = normalize(utterance);
+  if (words.empty() || words.size() > kMaxDialogueWords) return Builtin::kNone;
+  std::vector<std::string> request = strip_politeness(words);
+  std::shared_ptr<const ModelState> state = impl_->ensure_model();
+  std::vector<float> p = state->model.probabilities(request);
+  const auto top = static_cast<std::size_t>(std::max_element(p.begin(), p.end()) - p.begin());
+  const auto first = static_cast<std::size_t>(state->none_class) + 1;
+  if (top >= first && top < first + ModelState::kDialogue.size() &&
+      p[top] >= kDialogueProbability) {
+    return ModelState::kDialogue[top - first];
+  }
+  return Builtin::kNone;
 }
 
 std::optional<Match> Interpreter::match(std::string_view utterance,
@@ -488,7 +510,14 @@ std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
   for (const std::string& text : background_sentences()) {
     sentences.push_back({strip_politeness(normalize(text)), state->none_class});
   }
-  state->model = IntentModel::train(sentences, state->none_class + 1);
+  for (std::size_t d = 0; d < ModelState::kDialogue.size(); ++d) {
+    for (const std::string& text : dialogue_sentences(ModelState::kDialogue[d])) {
+      sentences.push_back({strip_politeness(normalize(text)),
+                           state->none_class + 1 + static_cast<int>(d)});
+    }
+  }
+  state->model = IntentModel::train(
+      sentences, state->none_class + 1 + static_cast<int>(ModelState::kDialogue.size()));
   model = std::move(state);
   return model;
 }
@@ -550,7 +579,11 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   const Impl& impl = *impl_;
   std::shared_ptr<const ModelState> state = impl.ensure_model();
   std::vector<float> p = state->model.probabilities(u.request);
-  const float p_none = p[static_cast<std::size_t>(state->none_class)];
+  // Out of scope for the skills: the out-of-scope class and the dialogue answers.
+  float p_none = 0;
+  for (std::size_t k = static_cast<std::size_t>(state->none_class); k < p.size(); ++k) {
+    p_none += p[k];
+  }
 
   // Intents best first by the model's belief; ties by registration order.
   std::vector<std::size_t> order(impl.intents.size());
