@@ -213,12 +213,20 @@ Builtin Interpreter::builtin(std::string_view utterance) const {
   std::vector<std::string> words = normalize(utterance);
   if (words.empty() || words.size() > kMaxDialogueWords) return Builtin::kNone;
   std::vector<std::string> request = strip_politeness(words);
+  // "yes no" is neither: an answer holding both is never guessed.
+  const bool has_yes = std::find(request.begin(), request.end(), "yes") != request.end();
+  const bool has_no = std::find(request.begin(), request.end(), "no") != request.end();
+  if (has_yes && has_no) return Builtin::kNone;
   std::shared_ptr<const ModelState> state = impl_->ensure_model();
   std::vector<float> p = state->model.probabilities(request);
   const auto top = static_cast<std::size_t>(std::max_element(p.begin(), p.end()) - p.begin());
   const auto first = static_cast<std::size_t>(state->none_class) + 1;
+  float runner_up = 0;  // the likeliest other dialogue answer ("yes no" is neither)
+  for (std::size_t k = first; k < first + ModelState::kDialogue.size(); ++k) {
+    if (k != top) runner_up = std::max(runner_up, p[k]);
+  }
   if (top >= first && top < first + ModelState::kDialogue.size() &&
-      p[top] >= kDialogueProbability) {
+      p[top] >= kDialogueProbability && p[top] >= 2 * runner_up) {
     return ModelState::kDialogue[top - first];
   }
   return Builtin::kNone;
@@ -308,7 +316,7 @@ constexpr float kAcceptWithTemplate = 0.15F;  // when a template parses at a low
 constexpr float kNoneRatioWithTemplate = 0.4F;
 constexpr float kLowTemplateCost = 1.5F;
 constexpr float kAskEach = 0.2F;
-constexpr float kAskTogether = 0.6F;
+constexpr float kAskTogether = 0.5F;
 constexpr float kModelOverridesExact = 0.3F;
 
 // Words people use for the words templates are written with; any skill benefits.
@@ -579,10 +587,11 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   const Impl& impl = *impl_;
   std::shared_ptr<const ModelState> state = impl.ensure_model();
   std::vector<float> p = state->model.probabilities(u.request);
-  // Out of scope for the skills: the out-of-scope class and the dialogue answers.
-  float p_none = 0;
-  for (std::size_t k = static_cast<std::size_t>(state->none_class); k < p.size(); ++k) {
-    p_none += p[k];
+  const float p_none = p[static_cast<std::size_t>(state->none_class)];
+  // A dialogue answer ("you got it") is no request for a skill.
+  float p_dialogue = 0;
+  for (std::size_t k = static_cast<std::size_t>(state->none_class) + 1; k < p.size(); ++k) {
+    p_dialogue = std::max(p_dialogue, p[k]);
   }
 
   // Intents best first by the model's belief; ties by registration order.
@@ -689,6 +698,10 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     return m;
   };
   const float p1 = p[order[0]];
+  if (p_dialogue > p1) {
+    u.reason = "a dialogue answer, not a request";
+    return u;
+  }
   const float p2 = order.size() > 1 ? p[order[1]] : 0.0F;
   const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost;
   if ((p1 > p_none * kNoneRatio && p1 >= kAcceptProbability) ||

@@ -214,7 +214,11 @@ void Manager::handle(std::string_view utterance) {
     if (!match) return;
   }
   if (!match) {
-    log(LogLevel::kInfo, "skills", "no match for \"" + std::string(utterance) + "\"");
+    // At most the first 200 bytes: a 1 MB line must not flood the log.
+    log(LogLevel::kInfo, "skills",
+        "no match for \"" + std::string(utterance.substr(0, 200)) + "\"" +
+            (utterance.size() > 200 ? " (" + std::to_string(utterance.size()) + " bytes)" : "") +
+            " (" + understood.reason + ")");
     say(no_match_sentence());
     return;
   }

@@ -280,7 +280,8 @@ TEST_CASE("builtins: stop, yes, no, repeat") {
       {"what time is it", Builtin::kNone}, {"please", Builtin::kNone},
   };
   for (const Case& c : cases) {
-    CAPTURE(c.utterance);
+    std::string utterance = c.utterance;
+    CAPTURE(utterance);
     CHECK(interpreter.builtin(c.utterance) == c.expected);
   }
 }
