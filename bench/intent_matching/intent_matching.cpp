@@ -1,12 +1,16 @@
-// Intent matching time per utterance with 50 skills x 20 templates (goal: median < 100 us).
+// Understanding time per utterance with 50 skills x 20 templates (4 intents of 5 templates
+// each per skill): goals median < 1 ms per utterance, intent model built in < 1 s, model
+// memory < 20 MB (issue 16). Earlier goal for word-for-word matching alone: < 100 us.
 //
 // Baselines measured in the same run: normalising the utterance alone (every matcher pays
-// this) and an exact-sentence hash lookup (normalise + join + unordered_map::find), the
-// cheapest possible "interpreter" that understands no slots at all.
+// this), an exact-sentence hash lookup (normalise + join + unordered_map::find), the
+// cheapest possible "interpreter" that understands no slots at all, and word-for-word
+// template matching (match_exact), which understanding runs first.
 //
 // Usage: intent_matching [rounds]   (default 20 rounds over 400 utterances)
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <random>
@@ -23,6 +27,7 @@ namespace {
 
 constexpr int kSkills = 50;
 constexpr int kTemplatesPerSkill = 20;
+constexpr int kIntentsPerSkill = 4;
 
 const char* const kVerbs[] = {"turn on", "open",  "show me", "tell me about", "play",
                               "start",   "check", "find",    "read",          "clean"};
@@ -51,46 +56,49 @@ Workload build(std::mt19937& rng) {
   for (int s = 0; s < kSkills; ++s) {
     std::vector<std::string> devices;
     for (int d = 0; d < 5; ++d) devices.push_back(noun(2000 + s * 5 + d));
+    std::vector<IntentSpec> specs(kIntentsPerSkill);
+    for (int k = 0; k < kIntentsPerSkill; ++k) {
+      specs[static_cast<std::size_t>(k)].skill_id = "skill" + std::to_string(s);
+      specs[static_cast<std::size_t>(k)].intent = "intent" + std::to_string(k);
+      specs[static_cast<std::size_t>(k)].slots = {{"duration", SlotType::kDuration, {}},
+                                                  {"when", SlotType::kDateTime, {}},
+                                                  {"level", SlotType::kNumber, {}},
+                                                  {"text", SlotType::kText, {}},
+                                                  {"device", SlotType::kList, devices}};
+    }
     for (int t = 0; t < kTemplatesPerSkill; ++t) {
       std::string verb = kVerbs[(s + t) % 10];
       std::string n = noun(s * kTemplatesPerSkill + t);
-      IntentSpec spec;
-      spec.skill_id = "skill" + std::to_string(s);
-      spec.intent = "intent" + std::to_string(t);
+      IntentSpec& spec = specs[static_cast<std::size_t>(t % kIntentsPerSkill)];
       const std::string& device = devices[static_cast<std::size_t>(t % 5)];
       switch (t % 6) {
         case 0:
-          spec.templates = {"(" + verb + "|please " + verb + ") [the] " + n};
+          spec.templates.push_back("(" + verb + "|please " + verb + ") [the] " + n);
           sentences.push_back(verb + " the " + n);
           break;
         case 1:
-          spec.templates = {verb + " [the] " + n + " (for|in) {duration}"};
-          spec.slots = {{"duration", SlotType::kDuration, {}}};
+          spec.templates.push_back(verb + " [the] " + n + " (for|in) {duration}");
           sentences.push_back(verb + " " + n + " for twenty five minutes");
           break;
         case 2:
-          spec.templates = {verb + " [my] " + n + " {when}"};
-          spec.slots = {{"when", SlotType::kDateTime, {}}};
+          spec.templates.push_back(verb + " [my] " + n + " {when}");
           sentences.push_back(verb + " my " + n + " every weekday at 7:30");
           break;
         case 3:
-          spec.templates = {"set [the] " + n + " to {level} [percent]"};
-          spec.slots = {{"level", SlotType::kNumber, {}}};
+          spec.templates.push_back("set [the] " + n + " to {level} [percent]");
           sentences.push_back("set the " + n + " to sixty");
           break;
         case 4:
-          spec.templates = {verb + " " + n + " [about|with] {text}"};
-          spec.slots = {{"text", SlotType::kText, {}}};
+          spec.templates.push_back(verb + " " + n + " [about|with] {text}");
           sentences.push_back(verb + " " + n + " about the big red box on the top shelf");
           break;
         case 5:
-          spec.templates = {"(" + verb + "|use) [the] " + n + " (on|with) [the] {device}"};
-          spec.slots = {{"device", SlotType::kList, devices}};
+          spec.templates.push_back("(" + verb + "|use) [the] " + n + " (on|with) [the] {device}");
           sentences.push_back("use the " + n + " with the " + device);
           break;
       }
-      w.interpreter.add(spec);
     }
+    for (const IntentSpec& spec : specs) w.interpreter.add(spec);
   }
   // 3 of 4 utterances match something; the rest are near misses and chatter.
   std::uniform_int_distribution<std::size_t> pick(0, sentences.size() - 1);
@@ -103,7 +111,7 @@ Workload build(std::mt19937& rng) {
                                 "set the bakodi to loud", "tell me a joke about robots"};
   for (int i = 0; i < 100; ++i) {
     std::string miss = misses[i % 6];
-    if (i % 3 == 0) miss = sentences[pick(rng)] + " now";  // one word too many
+    if (i % 3 == 0) miss = sentences[pick(rng)] + " now";  // one word too many: understood
     w.utterances.push_back(miss);
     w.should_match.push_back(false);
   }
@@ -151,15 +159,27 @@ int main(int argc, char** argv) {
   context.time_zone = "Europe/Berlin";
   context.contact_names = {"Anna Schmidt", "Bob"};
 
-  // Correctness first: every utterance must get the expected kind of answer.
+  // The intent model, built once for these skills (as after loading them).
+  auto model_start = std::chrono::steady_clock::now();
+  const std::clock_t model_cpu_start = std::clock();
+  const std::size_t model_bytes = w.interpreter.build_model();
+  const double model_cpu_ms =
+      1000.0 * static_cast<double>(std::clock() - model_cpu_start) / CLOCKS_PER_SEC;
+  double model_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                              model_start)
+                        .count();
+
+  // Correctness first: every sentence a template covers must be understood; the others
+  // (chatter, near misses) are counted, since a near miss may rightly be understood now.
   int wrong = 0;
+  int misses_understood = 0;
   for (std::size_t i = 0; i < w.utterances.size(); ++i) {
     bool matched = w.interpreter.match(w.utterances[i], context).has_value();
-    if (matched != w.should_match[i]) {
+    if (w.should_match[i] && !matched) {
       ++wrong;
-      std::fprintf(stderr, "unexpected %s: \"%s\"\n", matched ? "match" : "no match",
-                   w.utterances[i].c_str());
+      std::fprintf(stderr, "not understood: \"%s\"\n", w.utterances[i].c_str());
     }
+    if (!w.should_match[i] && matched) ++misses_understood;
   }
 
   std::unordered_map<std::string, int> exact;
@@ -180,6 +200,9 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < w.utterances.size(); ++i) {
     (w.should_match[i] ? hits : misses).push_back(w.utterances[i]);
   }
+  auto exact_all = time_each(w.utterances, rounds, [&](const std::string& u) {
+    sink += w.interpreter.match_exact(u, context).has_value() ? 1 : 0;
+  });
   auto match_all = time_each(w.utterances, rounds, [&](const std::string& u) {
     sink += w.interpreter.match(u, context).has_value() ? 1 : 0;
   });
@@ -191,20 +214,30 @@ int main(int argc, char** argv) {
   });
 
   Stats n = stats_of(normalise_only), h = stats_of(hash_lookup), m = stats_of(match_all),
+        e = stats_of(exact_all),
         mh = stats_of(match_hits), mm = stats_of(match_misses);
-  std::printf("intent_matching: %d skills x %d templates = %zu intents, built in %.1f ms\n",
+  std::printf("intent_matching: %d skills x %d templates = %zu intents, compiled in %.1f ms\n",
               kSkills, kTemplatesPerSkill, w.interpreter.size(), build_ms);
-  std::printf("utterances: %zu (%zu should match, %zu should not), %d rounds, %d wrong\n",
-              w.utterances.size(), hits.size(), misses.size(), rounds, wrong);
+  std::printf("intent model: built in %.1f ms wall, %.1f ms CPU (goal < 1000 ms: %s), %.2f MB "
+              "(goal < 20 MB: %s)\n",
+              model_ms, model_cpu_ms, model_cpu_ms < 1000.0 ? "met" : "NOT met",
+              static_cast<double>(model_bytes) / (1024.0 * 1024.0),
+              model_bytes < 20u * 1024 * 1024 ? "met" : "NOT met");
+  std::printf("utterances: %zu (%zu covered by a template, %zu not), %d rounds, %d covered "
+              "but not understood, %d of the others understood\n",
+              w.utterances.size(), hits.size(), misses.size(), rounds, wrong, misses_understood);
   std::printf("%-34s %10s %10s\n", "per utterance", "median us", "p99 us");
   std::printf("%-34s %10.2f %10.2f\n", "baseline: normalise only", n.median_us, n.p99_us);
   std::printf("%-34s %10.2f %10.2f\n", "baseline: normalise + exact lookup", h.median_us,
               h.p99_us);
+  std::printf("%-34s %10.2f %10.2f\n", "baseline: word for word (exact)", e.median_us,
+              e.p99_us);
   std::printf("%-34s %10.2f %10.2f\n", "match (all)", m.median_us, m.p99_us);
   std::printf("%-34s %10.2f %10.2f\n", "match (matching utterances)", mh.median_us, mh.p99_us);
   std::printf("%-34s %10.2f %10.2f\n", "match (no-match utterances)", mm.median_us, mm.p99_us);
-  std::printf("ratio match/normalise (median): %.1fx; goal median < 100 us: %s\n",
-              m.median_us / n.median_us, m.median_us < 100.0 ? "met" : "NOT met");
+  std::printf("ratio match/normalise (median): %.1fx, match/exact: %.1fx; goal median < 1 ms: %s\n",
+              m.median_us / n.median_us, m.median_us / e.median_us,
+              m.median_us < 1000.0 ? "met" : "NOT met");
   std::printf("(checksum %zu)\n", sink);
   return wrong == 0 ? 0 : 1;
 }

@@ -35,6 +35,9 @@ perception::GrammarSlot grammar_slot(const skills::SlotDecl& slot, const SlotVal
 perception::GrammarOptions grammar_options(const std::string& wake_word) {
   perception::GrammarOptions options;
   options.optional_prefix = wake_word;
+  // People speak to the robot as they type to it: "could you please ..." (issue 16).
+  options.polite_before = perception::GrammarOptions::default_polite_before();
+  options.polite_after = perception::GrammarOptions::default_polite_after();
   return options;
 }
 

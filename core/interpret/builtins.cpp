@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "interpret/normalizer.h"
+#include "interpret/phrasing.h"
 
 namespace marvin::interpret {
 namespace {
@@ -45,7 +46,74 @@ constexpr std::array kPhrases{
     Phrase{"pardon", Builtin::kRepeat},       Phrase{"what did you say", Builtin::kRepeat},
     Phrase{"come again", Builtin::kRepeat},   Phrase{"sorry what", Builtin::kRepeat},
     Phrase{"repeat please", Builtin::kRepeat},
+    Phrase{"i do not think so", Builtin::kNo},  Phrase{"not really", Builtin::kNo},
+    Phrase{"certainly not", Builtin::kNo},      Phrase{"of course not", Builtin::kNo},
+    Phrase{"absolutely not", Builtin::kNo},     Phrase{"that is wrong", Builtin::kNo},
+    Phrase{"that is not right", Builtin::kNo},  Phrase{"that is not correct", Builtin::kNo},
+    Phrase{"that is false", Builtin::kNo},      Phrase{"i disagree", Builtin::kNo},
+    Phrase{"that is correct", Builtin::kYes},   Phrase{"that is true", Builtin::kYes},
+    Phrase{"i agree", Builtin::kYes},           Phrase{"sounds good", Builtin::kYes},
+    Phrase{"you are right", Builtin::kYes},     Phrase{"i think so", Builtin::kYes},
+    Phrase{"what was that", Builtin::kRepeat},  Phrase{"what did you just say", Builtin::kRepeat},
+    Phrase{"i did not hear you", Builtin::kRepeat}, Phrase{"once more", Builtin::kRepeat},
 };
+
+bool in(std::string_view word, std::initializer_list<std::string_view> set) {
+  for (std::string_view w : set) {
+    if (w == word) return true;
+  }
+  return false;
+}
+
+// A head word and only harmless words after it: "cancel that now", "yes that is right",
+// "no that is not correct". Content words ("cancel my dentist reminder") never qualify, so
+// a request is never taken for a dialogue word.
+Builtin by_head_word(const std::vector<std::string>& w) {
+  if (w.empty() || w.size() > 7) return Builtin::kNone;
+  auto rest_in = [&](std::initializer_list<std::string_view> set) {
+    for (std::size_t i = 1; i < w.size(); ++i) {
+      if (!in(w[i], set)) return false;
+    }
+    return true;
+  };
+  const std::string& head = w[0];
+  if (in(head, {"stop", "cancel", "abort", "halt", "quit", "terminate", "end", "scrap"}) &&
+      rest_in({"it", "that", "this", "now", "everything", "all", "talking", "right", "away",
+               "immediately", "the", "current", "process", "task", "request", "action",
+               "operation", "please", "off", "stop", "cancel"})) {
+    return Builtin::kStop;
+  }
+  if (in(head, {"yes", "yeah", "yep", "yup", "sure", "correct", "right", "affirmative",
+                "absolutely", "definitely", "certainly", "indeed", "agreed", "exactly", "true",
+                "ok", "okay", "approved", "confirmed", "totally"}) &&
+      rest_in({"that", "is", "it", "right", "correct", "true", "sure", "please", "do", "go",
+               "ahead", "sounds", "good", "fine", "i", "agree", "thanks", "thank", "you",
+               "of", "course", "definitely", "absolutely", "yes", "yeah", "thing", "exactly",
+               "so", "am", "indeed", "a", "yes", "statement", "confirm"})) {
+    return Builtin::kYes;
+  }
+  if (in(head, {"no", "nope", "nah", "negative", "negatory", "never", "incorrect", "wrong",
+                "false", "not"}) &&
+      rest_in({"no", "not", "that", "is", "it", "wrong", "incorrect", "right", "correct",
+               "thanks", "thank", "you", "i", "do", "think", "so", "way", "false", "meant",
+               "nope", "certainly", "absolutely", "of", "course", "please", "really", "true",
+               "at", "all", "happening", "invalid", "chance", "a", "definitely", "nah", "mind"})) {
+    return Builtin::kNo;
+  }
+  bool repeat = false;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (w[i] == "repeat" || w[i] == "repeated") repeat = true;
+    if (w[i] == "again" && i > 0 && in(w[i - 1], {"that", "it", "this", "say", "said"})) {
+      repeat = true;
+    }
+    if (in(w[i], {"hear", "catch", "understand"}) && i >= 2 && w[i - 1] == "not" &&
+        (w[i - 2] == "did" || w[i - 2] == "could")) {
+      repeat = true;
+    }
+  }
+  if (repeat && w.size() <= 10) return Builtin::kRepeat;
+  return Builtin::kNone;
+}
 
 }  // namespace
 
@@ -69,7 +137,15 @@ Builtin classify_builtin(std::string_view utterance) {
   for (const Phrase& phrase : kPhrases) {
     if (phrase.text == text) return phrase.meaning;
   }
-  return Builtin::kNone;
+  // People say more than the bare word: "hey, could you stop that now", "yes that is right".
+  std::vector<std::string> request = strip_politeness(
+      std::vector<std::string>(words.begin() + static_cast<std::ptrdiff_t>(begin),
+                               words.begin() + static_cast<std::ptrdiff_t>(end)));
+  text = join_words(request, 0, request.size());
+  for (const Phrase& phrase : kPhrases) {
+    if (phrase.text == text) return phrase.meaning;
+  }
+  return by_head_word(request);
 }
 
 }  // namespace marvin::interpret

@@ -2,10 +2,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <mutex>
 #include <set>
 
 #include "interpret/builtins.h"
+#include "interpret/intent_model.h"
 #include "interpret/intent_table.h"
+#include "interpret/phrasing.h"
+#include "interpret/tolerant_matcher.h"
 #include "interpret/matcher.h"
 #include "interpret/normalizer.h"
 #include "interpret/slot_parsers.h"
@@ -22,6 +27,13 @@ constexpr std::array<std::pair<SlotType, const char*>, 6> kSlotTypeNames{{
     {SlotType::kList, "list"},
     {SlotType::kText, "text"},
 }};
+
+// A dialogue answer in other words is short; the model must be this sure of it.
+constexpr std::size_t kMaxDialogueWords = 12;
+constexpr float kDialogueProbability = 0.5F;
+
+// Longer utterances are never a request (a 1 MB line is answered at once).
+constexpr std::size_t kMaxExactWords = 64;
 
 // Words a dialogue answer may start with before the value: "it's eight", "to Anna".
 constexpr std::array<std::string_view, 9> kAnswerFillers{
@@ -79,12 +91,42 @@ std::optional<SlotType> slot_type_from_string(std::string_view name) {
   return std::nullopt;
 }
 
+// The model and the tables tolerant matching needs, built from the registered intents.
+struct ModelState {
+  IntentModel model;
+  std::vector<std::string> word_stems;    // vocabulary id -> stem
+  std::vector<SynonymTable> synonyms;     // per intent (same order as Impl::intents)
+  int none_class = 0;                     // the out-of-scope class (= number of intents)
+  // Then the dialogue answers: none_class + 1, + 2, + 3.
+  static constexpr std::array<Builtin, 3> kDialogue{Builtin::kYes, Builtin::kNo,
+                                                    Builtin::kRepeat};
+};
+
 struct Interpreter::Impl {
   Vocabulary vocabulary;
   std::vector<CompiledIntent> intents;
+  // Built on first use after a change; immutable once built, so readers share it.
+  mutable std::mutex model_mutex;
+  mutable std::shared_ptr<const ModelState> model;
 
-  std::optional<Match> best_match(const std::vector<std::string>& words,
-                                  const Context& context) const;
+  Impl() = default;
+  Impl(const Impl& other)
+      : vocabulary(other.vocabulary), intents(other.intents), model(other.current_model()) {}
+
+  std::shared_ptr<const ModelState> current_model() const {
+    std::lock_guard lock(model_mutex);
+    return model;
+  }
+  std::shared_ptr<const ModelState> ensure_model() const;
+  void invalidate() {
+    std::lock_guard lock(model_mutex);
+    model.reset();
+  }
+
+  // The best exact match of each intent (empty optional where none).
+  std::vector<std::optional<TemplateMatch>> exact_matches(const std::vector<std::string>& words,
+                                                          const Context& context) const;
+  Match to_match(const CompiledIntent& intent, std::vector<SlotCapture> captures) const;
 };
 
 Interpreter::Interpreter() : impl_(std::make_unique<Impl>()) {}
@@ -146,12 +188,14 @@ void Interpreter::add(const IntentSpec& spec) {
   }
   impl_->vocabulary = std::move(vocabulary);
   impl_->intents.push_back(std::move(intent));
+  impl_->invalidate();
 }
 
 std::size_t Interpreter::remove_skill(std::string_view skill_id) {
   auto& intents = impl_->intents;
   std::size_t before = intents.size();
   std::erase_if(intents, [&](const CompiledIntent& i) { return i.spec.skill_id == skill_id; });
+  impl_->invalidate();
   return before - intents.size();
 }
 
@@ -162,55 +206,43 @@ std::vector<std::string> Interpreter::conflicts() const {
 }
 
 Builtin Interpreter::builtin(std::string_view utterance) const {
-  return classify_builtin(utterance);
-}
-
-std::optional<Match> Interpreter::Impl::best_match(const std::vector<std::string>& words,
-                                                   const Context& context) const {
-  if (words.empty()) return std::nullopt;
-  std::vector<int> ids(words.size());
-  std::vector<char> present(vocabulary.size(), 0);
-  for (std::size_t i = 0; i < words.size(); ++i) {
-    ids[i] = vocabulary.find(words[i]);
-    if (ids[i] != Vocabulary::kUnknown) present[static_cast<std::size_t>(ids[i])] = 1;
+  Builtin fixed = classify_builtin(utterance);
+  if (fixed != Builtin::kNone) return fixed;
+  // Yes, no and repeat said in other words ("you got it", "i didn't catch that"): when the
+  // model is sure. Stop is never guessed: only its fixed words stop things.
+  std::vector<std::string> words = normalize(utterance);
+  if (words.empty() || words.size() > kMaxDialogueWords) return Builtin::kNone;
+  std::vector<std::string> request = strip_politeness(words);
+  // "yes no" is neither: an answer holding both is never guessed.
+  const bool has_yes = std::find(request.begin(), request.end(), "yes") != request.end();
+  const bool has_no = std::find(request.begin(), request.end(), "no") != request.end();
+  if (has_yes && has_no) return Builtin::kNone;
+  std::shared_ptr<const ModelState> state = impl_->ensure_model();
+  std::vector<float> p = state->model.probabilities(request);
+  const auto top = static_cast<std::size_t>(std::max_element(p.begin(), p.end()) - p.begin());
+  const auto first = static_cast<std::size_t>(state->none_class) + 1;
+  float runner_up = 0;  // the likeliest other dialogue answer ("yes no" is neither)
+  for (std::size_t k = first; k < first + ModelState::kDialogue.size(); ++k) {
+    if (k != top) runner_up = std::max(runner_up, p[k]);
   }
-  ContactBook contacts(context.contact_names);
-
-  std::optional<TemplateMatch> best;
-  const CompiledIntent* best_intent = nullptr;
-  for (const CompiledIntent& intent : intents) {
-    IntentSlotReader reader(intent, context, contacts);
-    for (const CompiledTemplate& compiled : intent.templates) {
-      if (words.size() < compiled.min_words || words.size() > compiled.max_words) continue;
-      // A template that cannot beat the best so far is not tried.
-      if (best && compiled.literal_words_max < best->literal_words) continue;
-      bool has_all = std::all_of(
-          compiled.required_words.begin(), compiled.required_words.end(),
-          [&](int id) { return present[static_cast<std::size_t>(id)] != 0; });
-      if (!has_all) continue;
-      auto found = match_template(compiled, words, ids, reader);
-      if (found && (!best || ranks_above(*found, *best))) {
-        best = std::move(found);
-        best_intent = &intent;
-      }
-    }
+  if (top >= first && top < first + ModelState::kDialogue.size() &&
+      p[top] >= kDialogueProbability && p[top] >= 2 * runner_up) {
+    return ModelState::kDialogue[top - first];
   }
-  if (!best) return std::nullopt;
-  Match match;
-  match.skill_id = best_intent->spec.skill_id;
-  match.intent = best_intent->spec.intent;
-  match.literal_words = best->literal_words;
-  for (SlotCapture& capture : best->slots) {
-    match.slots[best_intent->slots[static_cast<std::size_t>(capture.slot)].spec.name] =
-        std::move(capture.value);
-  }
-  return match;
+  return Builtin::kNone;
 }
 
 std::optional<Match> Interpreter::match(std::string_view utterance,
                                         const Context& context) const {
+  Understanding u = understand(utterance, context);
+  if (u.outcome == Understanding::Outcome::kMatch) return std::move(u.match);
+  return std::nullopt;
+}
+
+std::optional<Match> Interpreter::match_exact(std::string_view utterance,
+                                              const Context& context) const {
   std::vector<std::string> words = normalize(utterance);
-  // The wake word is never content: "Marvin, what time is it".
+  if (words.size() > kMaxExactWords) return std::nullopt;
   std::size_t skip = 0;
   if (words.size() >= 2 && (words[0] == "hey" || words[0] == "ok" || words[0] == "okay") &&
       words[1] == "marvin") {
@@ -219,18 +251,28 @@ std::optional<Match> Interpreter::match(std::string_view utterance,
     skip = 1;
   }
   words.erase(words.begin(), words.begin() + static_cast<std::ptrdiff_t>(skip));
-  if (auto found = impl_->best_match(words, context)) return found;
-  // Politeness the templates did not foresee: "please turn on the lamp", "... please".
-  bool changed = false;
-  if (words.size() >= 2 && words.front() == "please") {
-    words.erase(words.begin());
-    changed = true;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    auto exact = impl_->exact_matches(words, context);
+    std::optional<std::size_t> best;
+    for (std::size_t k = 0; k < exact.size(); ++k) {
+      if (exact[k] && (!best || ranks_above(*exact[k], *exact[*best]))) best = k;
+    }
+    if (best) {
+      Match m = impl_->to_match(impl_->intents[*best], std::move(exact[*best]->slots));
+      m.literal_words = exact[*best]->literal_words;
+      return m;
+    }
+    bool changed = false;
+    if (words.size() >= 2 && words.front() == "please") {
+      words.erase(words.begin());
+      changed = true;
+    }
+    if (words.size() >= 2 && words.back() == "please") {
+      words.pop_back();
+      changed = true;
+    }
+    if (!changed) break;
   }
-  if (words.size() >= 2 && words.back() == "please") {
-    words.pop_back();
-    changed = true;
-  }
-  if (changed) return impl_->best_match(words, context);
   return std::nullopt;
 }
 
@@ -254,6 +296,429 @@ std::optional<SlotValue> Interpreter::parse_slot(const SlotSpec& slot, std::stri
     ++begin;
   }
   return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------------------
+// Understanding requests as people say them: the intent model and tolerant matching.
+
+namespace {
+
+constexpr std::size_t kMaxUnderstoodWords = 64;
+// Training sentences drawn from one intent's templates (spread over its templates).
+constexpr std::size_t kExpansionsPerIntent = 96;
+constexpr std::size_t kMinExpansionsPerTemplate = 6;
+constexpr std::size_t kMaxExpansionsPerTemplate = 24;
+constexpr std::size_t kTolerantCandidates = 3;
+// Decision thresholds, measured on requests written by other people (core/interpret/README.md).
+constexpr float kAcceptProbability = 0.4F;
+constexpr float kNoneRatio = 2.0F;  // the top intent must be twice as likely as out of scope
+constexpr float kAcceptWithTemplate = 0.15F;  // when a template parses at a low cost
+constexpr float kNoneRatioWithTemplate = 0.4F;
+constexpr float kLowTemplateCost = 1.5F;
+constexpr float kAskEach = 0.2F;
+constexpr float kAskTogether = 0.5F;
+constexpr float kModelOverridesExact = 0.3F;
+
+// Words people use for the words templates are written with; any skill benefits.
+// utterance word -> template words it may stand for.
+const std::vector<std::pair<std::string, std::vector<std::string>>>& builtin_synonyms() {
+  static const std::vector<std::pair<std::string, std::vector<std::string>>> table{
+      {"show", {"tell"}},         {"give", {"tell"}},          {"say", {"tell"}},
+      {"read", {"tell"}},         {"delete", {"cancel", "remove"}},
+      {"remove", {"cancel", "delete"}}, {"erase", {"cancel", "delete", "remove"}},
+      {"clear", {"cancel", "delete", "remove"}}, {"cancel", {"delete", "remove"}},
+      {"create", {"set", "add", "make"}}, {"make", {"set", "add"}},
+      {"start", {"set"}},         {"put", {"add", "set"}},     {"schedule", {"set", "add"}},
+      {"calendar", {"schedule"}}, {"agenda", {"schedule"}},    {"diary", {"schedule"}},
+      {"planner", {"schedule"}},  {"lamp", {"light"}},         {"lights", {"light"}},
+      {"hi", {"hello"}},          {"hey", {"hello"}},          {"today's", {"today"}},
+      {"current", {"the"}},       {"which", {"what"}},
+  };
+  return table;
+}
+
+// Sample words for a slot when expanding templates into training sentences.
+std::vector<std::vector<std::string>> slot_samples(const PreparedSlot& slot) {
+  static const std::array<const char*, 9> kWhen{
+      "tomorrow at 8 am", "at 6 pm",      "on monday",    "tonight",    "in 20 minutes",
+      "at noon",          "every day at 9", "next friday", "at 7:30"};
+  static const std::array<const char*, 5> kDuration{"10 minutes", "an hour", "30 seconds",
+                                                    "2 hours", "5 minutes"};
+  static const std::array<const char*, 4> kText{"something", "the thing", "it", "that"};
+  std::vector<std::vector<std::string>> out;
+  switch (slot.spec.type) {
+    case SlotType::kDateTime:
+      for (const char* w : kWhen) out.push_back(normalize(w));
+      break;
+    case SlotType::kDuration:
+      for (const char* w : kDuration) out.push_back(normalize(w));
+      break;
+    case SlotType::kNumber:
+      out.push_back({"3"});
+      out.push_back({"10"});
+      break;
+    case SlotType::kContact:
+      out.push_back({"anna"});
+      out.push_back({"my", "son"});
+      break;
+    case SlotType::kList:
+      for (const std::string& v : slot.spec.values) out.push_back(normalize(v));
+      break;
+    case SlotType::kText:
+      for (const char* w : kText) out.push_back(normalize(w));
+      break;
+  }
+  return out;
+}
+
+// Sentences a compiled template produces: alternatives and optionals both ways, slots filled
+// with samples; at most `limit`, varied by taking alternatives in a rotating order.
+class TemplateExpander {
+ public:
+  TemplateExpander(const CompiledTemplate& compiled, const std::vector<std::string>& words_by_id,
+           const std::vector<std::vector<std::vector<std::string>>>& samples, std::size_t limit)
+      : program_(compiled.program), words_by_id_(words_by_id), samples_(samples), limit_(limit) {}
+
+  std::vector<std::vector<std::string>> run() {
+    walk(0);
+    return std::move(out_);
+  }
+
+ private:
+  void walk(int pc) {
+    if (out_.size() >= limit_ || ++steps_ > 4000) return;
+    const Instruction& in = program_[static_cast<std::size_t>(pc)];
+    switch (in.op) {
+      case Instruction::Op::kWord:
+        current_.push_back(words_by_id_[static_cast<std::size_t>(in.a)]);
+        walk(pc + 1);
+        current_.pop_back();
+        return;
+      case Instruction::Op::kJump:
+        walk(in.a);
+        return;
+      case Instruction::Op::kSplit:
+        if ((turn_++ & 1U) == 0) {
+          walk(in.a);
+          walk(in.b);
+        } else {
+          walk(in.b);
+          walk(in.a);
+        }
+        return;
+      case Instruction::Op::kSlot: {
+        const auto& options = samples_[static_cast<std::size_t>(in.a)];
+        if (options.empty()) return;
+        const auto& sample = options[(sample_turn_++) % options.size()];
+        std::size_t size = current_.size();
+        current_.insert(current_.end(), sample.begin(), sample.end());
+        walk(pc + 1);
+        current_.resize(size);
+        return;
+      }
+      case Instruction::Op::kMatch:
+        out_.push_back(current_);
+        return;
+    }
+  }
+
+  const std::vector<Instruction>& program_;
+  const std::vector<std::string>& words_by_id_;
+  const std::vector<std::vector<std::vector<std::string>>>& samples_;
+  std::size_t limit_;
+  std::vector<std::string> current_;
+  std::vector<std::vector<std::string>> out_;
+  unsigned turn_ = 0;
+  std::size_t sample_turn_ = 0;
+  int steps_ = 0;
+};
+
+// `sentence` with each single-word synonym of the intent put in for its word, one variant
+// per synonym (at most a few).
+void add_synonym_variants(const std::vector<std::string>& sentence,
+                          const std::vector<std::pair<std::string, std::vector<std::string>>>&
+                              synonyms,
+                          int label, std::vector<LabelledSentence>& out) {
+  int added = 0;
+  for (const auto& [word, alternatives] : synonyms) {
+    std::vector<std::string> key = normalize(word);
+    if (key.size() != 1) continue;
+    for (std::size_t i = 0; i < sentence.size(); ++i) {
+      if (sentence[i] != key[0]) continue;
+      for (const std::string& alternative : alternatives) {
+        if (added >= 4) return;
+        std::vector<std::string> variant(sentence.begin(),
+                                         sentence.begin() + static_cast<std::ptrdiff_t>(i));
+        for (std::string& w : normalize(alternative)) variant.push_back(std::move(w));
+        variant.insert(variant.end(), sentence.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+                       sentence.end());
+        out.push_back({std::move(variant), label});
+        ++added;
+      }
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
+  std::lock_guard lock(model_mutex);
+  if (model) return model;
+  auto state = std::make_shared<ModelState>();
+  std::vector<std::string> words_by_id(vocabulary.size());
+  vocabulary.for_each([&](const std::string& word, int id) {
+    words_by_id[static_cast<std::size_t>(id)] = word;
+  });
+  state->word_stems.reserve(words_by_id.size());
+  for (const std::string& w : words_by_id) state->word_stems.push_back(stem(w));
+
+  std::vector<LabelledSentence> sentences;
+  for (std::size_t i = 0; i < intents.size(); ++i) {
+    const CompiledIntent& intent = intents[i];
+    const int label = static_cast<int>(i);
+    // Synonyms: the built-in ones, then the skill's (utterance word -> template word ids).
+    SynonymTable table;
+    auto add_synonym = [&](const std::string& said, const std::string& written) {
+      std::vector<std::string> s = normalize(said);
+      std::vector<std::string> w = normalize(written);
+      if (s.size() != 1 || w.size() != 1) return;
+      int id = vocabulary.find(w[0]);
+      if (id != Vocabulary::kUnknown) table[s[0]].push_back(id);
+    };
+    for (const auto& [said, written] : builtin_synonyms()) {
+      for (const std::string& w : written) add_synonym(said, w);
+    }
+    for (const auto& [written, saids] : intent.spec.synonyms) {
+      for (const std::string& said : saids) add_synonym(said, written);
+    }
+    state->synonyms.push_back(std::move(table));
+
+    std::vector<std::vector<std::vector<std::string>>> samples;
+    for (const PreparedSlot& slot : intent.slots) samples.push_back(slot_samples(slot));
+    const std::size_t per_template =
+        std::clamp(kExpansionsPerIntent / intent.templates.size(), kMinExpansionsPerTemplate,
+                   kMaxExpansionsPerTemplate);
+    for (const CompiledTemplate& compiled : intent.templates) {
+      for (auto& sentence :
+           TemplateExpander(compiled, words_by_id, samples, per_template).run()) {
+        // Trained on what understand() will look at: the request without politeness.
+        std::vector<std::string> request = strip_politeness(sentence);
+        add_synonym_variants(request, intent.spec.synonyms, label, sentences);
+        sentences.push_back({std::move(request), label});
+      }
+    }
+    for (const std::string& example : intent.spec.examples) {
+      std::vector<std::string> words = strip_politeness(normalize(example));
+      add_synonym_variants(words, intent.spec.synonyms, label, sentences);
+      sentences.push_back({std::move(words), label});
+    }
+  }
+  state->none_class = static_cast<int>(intents.size());
+  for (const std::string& text : background_sentences()) {
+    sentences.push_back({strip_politeness(normalize(text)), state->none_class});
+  }
+  for (std::size_t d = 0; d < ModelState::kDialogue.size(); ++d) {
+    for (const std::string& text : dialogue_sentences(ModelState::kDialogue[d])) {
+      sentences.push_back({strip_politeness(normalize(text)),
+                           state->none_class + 1 + static_cast<int>(d)});
+    }
+  }
+  state->model = IntentModel::train(
+      sentences, state->none_class + 1 + static_cast<int>(ModelState::kDialogue.size()));
+  model = std::move(state);
+  return model;
+}
+
+std::size_t Interpreter::build_model() const { return impl_->ensure_model()->model.memory_bytes(); }
+
+std::vector<std::optional<TemplateMatch>> Interpreter::Impl::exact_matches(
+    const std::vector<std::string>& words, const Context& context) const {
+  std::vector<std::optional<TemplateMatch>> found(intents.size());
+  if (words.empty()) return found;
+  std::vector<int> ids(words.size());
+  std::vector<char> present(vocabulary.size(), 0);
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    ids[i] = vocabulary.find(words[i]);
+    if (ids[i] != Vocabulary::kUnknown) present[static_cast<std::size_t>(ids[i])] = 1;
+  }
+  ContactBook contacts(context.contact_names);
+  for (std::size_t k = 0; k < intents.size(); ++k) {
+    const CompiledIntent& intent = intents[k];
+    IntentSlotReader reader(intent, context, contacts);
+    for (const CompiledTemplate& compiled : intent.templates) {
+      if (words.size() < compiled.min_words || words.size() > compiled.max_words) continue;
+      bool has_all = std::all_of(
+          compiled.required_words.begin(), compiled.required_words.end(),
+          [&](int id) { return present[static_cast<std::size_t>(id)] != 0; });
+      if (!has_all) continue;
+      auto m = match_template(compiled, words, ids, reader);
+      if (m && (!found[k] || ranks_above(*m, *found[k]))) found[k] = std::move(m);
+    }
+  }
+  return found;
+}
+
+Match Interpreter::Impl::to_match(const CompiledIntent& intent,
+                                  std::vector<SlotCapture> captures) const {
+  Match match;
+  match.skill_id = intent.spec.skill_id;
+  match.intent = intent.spec.intent;
+  for (SlotCapture& capture : captures) {
+    match.slots[intent.slots[static_cast<std::size_t>(capture.slot)].spec.name] =
+        std::move(capture.value);
+  }
+  return match;
+}
+
+Understanding Interpreter::understand(std::string_view utterance, const Context& context) const {
+  Understanding u;
+  u.words = normalize(utterance);
+  if (u.words.empty()) {
+    u.reason = "no words";
+    return u;
+  }
+  if (u.words.size() > kMaxUnderstoodWords) {
+    u.reason = "too long (" + std::to_string(u.words.size()) + " words, at most " +
+               std::to_string(kMaxUnderstoodWords) + ")";
+    return u;
+  }
+  u.request = strip_politeness(u.words);
+  const Impl& impl = *impl_;
+  std::shared_ptr<const ModelState> state = impl.ensure_model();
+  std::vector<float> p = state->model.probabilities(u.request);
+  const float p_none = p[static_cast<std::size_t>(state->none_class)];
+  // A dialogue answer ("you got it") is no request for a skill.
+  float p_dialogue = 0;
+  for (std::size_t k = static_cast<std::size_t>(state->none_class) + 1; k < p.size(); ++k) {
+    p_dialogue = std::max(p_dialogue, p[k]);
+  }
+
+  // Intents best first by the model's belief; ties by registration order.
+  std::vector<std::size_t> order(impl.intents.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return p[a] > p[b]; });
+
+  // 1. A template that covers the words exactly (without the politeness, then as said).
+  std::vector<std::string> spoken = u.words;
+  if (spoken.size() >= 2 && (spoken[0] == "hey" || spoken[0] == "ok" || spoken[0] == "okay") &&
+      spoken[1] == "marvin") {
+    spoken.erase(spoken.begin(), spoken.begin() + 2);
+  } else if (spoken.size() >= 2 && spoken[0] == "marvin") {
+    spoken.erase(spoken.begin());
+  }
+  // The request first, so a text slot does not take the politeness ("... my glasses please").
+  for (const auto* words : {&u.request, &spoken}) {
+    auto exact = impl.exact_matches(*words, context);
+    std::optional<std::size_t> best;
+    for (std::size_t k = 0; k < exact.size(); ++k) {
+      if (exact[k] && (!best || ranks_above(*exact[k], *exact[*best]))) best = k;
+    }
+    if (!best) continue;
+    // Another skill's template also fits word for word and the model clearly prefers it
+    // ("remind me about the meeting": schedule, not medication).
+    for (std::size_t k = 0; k < exact.size(); ++k) {
+      if (exact[k] && impl.intents[k].spec.skill_id != impl.intents[*best].spec.skill_id &&
+          p[k] > p[*best] + kModelOverridesExact) {
+        best = k;
+      }
+    }
+    Match m = impl.to_match(impl.intents[*best], std::move(exact[*best]->slots));
+    m.literal_words = exact[*best]->literal_words;
+    u.match = std::move(m);
+    u.outcome = Understanding::Outcome::kMatch;
+    u.reason = "template matches word for word";
+    break;
+  }
+
+  // 2. The model's ranking, with tolerant template parses for the likeliest intents.
+  std::vector<std::string> stems;
+  std::vector<int> ids;
+  for (const std::string& w : u.request) {
+    stems.push_back(stem(w));
+    ids.push_back(impl.vocabulary.find(w));
+  }
+  TolerantInput input{u.request, ids, stems};
+  ContactBook contacts(context.contact_names);
+  std::vector<std::optional<TolerantMatch>> parses(order.size());
+  for (std::size_t r = 0; r < order.size() && r < kTolerantCandidates; ++r) {
+    const CompiledIntent& intent = impl.intents[order[r]];
+    IntentSlotReader reader(intent, context, contacts);
+    for (const CompiledTemplate& compiled : intent.templates) {
+      auto m = match_tolerant(compiled, input, state->word_stems, state->synonyms[order[r]],
+                              reader);
+      if (m && (!parses[r] || m->cost < parses[r]->cost ||
+                (m->cost == parses[r]->cost && m->literal_words > parses[r]->literal_words))) {
+        parses[r] = std::move(m);
+      }
+    }
+  }
+  for (std::size_t r = 0; r < order.size() && u.ranking.size() < 4; ++r) {
+    const CompiledIntent& intent = impl.intents[order[r]];
+    u.ranking.push_back({intent.spec.skill_id, intent.spec.intent, p[order[r]],
+                         parses[r] ? parses[r]->cost : -1.0F});
+  }
+  RankedIntent none{"", "none", p_none, -1};
+  auto at = std::find_if(u.ranking.begin(), u.ranking.end(),
+                         [&](const RankedIntent& r) { return r.probability < p_none; });
+  u.ranking.insert(at, none);
+  if (u.outcome == Understanding::Outcome::kMatch) {
+    // A word-for-word match through a free-text slot can be the wrong skill ("remind me
+    // about the meeting" fits medication's "remind me about {medicine}"): another skill's
+    // intent the model is sure of, and whose template fits closely, wins.
+    const CompiledIntent& top = impl.intents[order.front()];
+    const auto chosen = std::find_if(order.begin(), order.end(), [&](std::size_t k) {
+      return impl.intents[k].spec.skill_id == u.match->skill_id &&
+             impl.intents[k].spec.intent == u.match->intent;
+    });
+    if (top.spec.skill_id != u.match->skill_id && parses[0] &&
+        parses[0]->cost <= kLowTemplateCost && p[order.front()] >= kAcceptProbability &&
+        chosen != order.end() && p[order.front()] > p[*chosen] + kModelOverridesExact) {
+      Match m = impl.to_match(top, parses[0]->slots);
+      m.confidence = p[order.front()];
+      m.cost = parses[0]->cost;
+      m.literal_words = parses[0]->literal_words;
+      u.match = std::move(m);
+      u.reason = "the model prefers another skill's close template";
+    }
+    return u;
+  }
+  if (order.empty()) {
+    u.reason = "no intents";
+    return u;
+  }
+
+  auto reading = [&](std::size_t r) {
+    const CompiledIntent& intent = impl.intents[order[r]];
+    Match m = parses[r] ? impl.to_match(intent, parses[r]->slots) : impl.to_match(intent, {});
+    m.confidence = p[order[r]];
+    m.cost = parses[r] ? parses[r]->cost : TolerantCosts::kMaxCost;
+    m.literal_words = parses[r] ? parses[r]->literal_words : 0;
+    return m;
+  };
+  const float p1 = p[order[0]];
+  if (p_dialogue > p1) {
+    u.reason = "a dialogue answer, not a request";
+    return u;
+  }
+  const float p2 = order.size() > 1 ? p[order[1]] : 0.0F;
+  const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost;
+  if ((p1 > p_none * kNoneRatio && p1 >= kAcceptProbability) ||
+      (low_cost && p1 >= kAcceptWithTemplate && p1 >= p_none * kNoneRatioWithTemplate)) {
+    u.match = reading(0);
+    u.outcome = Understanding::Outcome::kMatch;
+    u.reason = p1 >= kAcceptProbability ? "the model is sure" : "close template and model agree";
+    return u;
+  }
+  if (p2 >= kAskEach && p1 + p2 >= kAskTogether && p1 + p2 > p_none * kNoneRatio) {
+    u.choices = {reading(0), reading(1)};
+    u.outcome = Understanding::Outcome::kAsk;
+    u.reason = "two intents are close";
+    return u;
+  }
+  u.reason = p_none >= p1 ? "out of scope is likeliest" : "not sure enough";
+  return u;
 }
 
 }  // namespace marvin::interpret

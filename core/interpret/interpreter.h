@@ -69,6 +69,12 @@ struct IntentSpec {
   std::string intent;
   std::vector<std::string> templates;
   std::vector<SlotSpec> slots;
+  // Natural sentences people say for this intent (not templates: no syntax), used to train
+  // the intent model. Optional.
+  std::vector<std::string> examples{};
+  // Words people use for a template word: {"reminder", {"alarm", "alert"}}. Used by the
+  // tolerant matcher (single words) and to vary the model's training sentences. Optional.
+  std::vector<std::pair<std::string, std::vector<std::string>>> synonyms{};
 };
 
 struct SlotValue {
@@ -81,6 +87,28 @@ struct Match {
   std::string intent;
   std::map<std::string, SlotValue> slots;  // only the slots the utterance filled
   int literal_words = 0;                   // template words matched literally (the rank)
+  float confidence = 1.0F;  // 1 for a word-for-word template match, else the model's belief
+  float cost = 0.0F;        // tolerant-matching cost of the slots' parse (0 = exact)
+};
+
+// One intent and how much the model believes in it (skill_id "" = out of scope).
+struct RankedIntent {
+  std::string skill_id;
+  std::string intent;
+  float probability = 0;
+  float cost = -1;  // best tolerant template cost, -1 when not tried or no parse
+};
+
+// What the interpreter made of an utterance (understand()).
+struct Understanding {
+  enum class Outcome { kMatch, kAsk, kNone };
+  Outcome outcome = Outcome::kNone;
+  std::vector<std::string> words;    // normalised
+  std::vector<std::string> request;  // without wake word, politeness and filler
+  std::vector<RankedIntent> ranking;  // best first, at most 5
+  std::optional<Match> match;         // kMatch: the request
+  std::vector<Match> choices;         // kAsk: the two likeliest readings, best first
+  std::string reason;                 // why, in a few words ("exact template", ...)
 };
 
 // What the interpreter needs to know about the world to resolve slots.
@@ -142,6 +170,24 @@ class Interpreter {
   // Throws std::runtime_error naming the zone if a datetime slot is tried and
   // Context::time_zone is not a known IANA zone.
   std::optional<Match> match(std::string_view utterance, const Context& context) const;
+
+  // Word-for-word only: the best template that covers the whole utterance (after the wake
+  // word; a leading or trailing "please" dropped if nothing matches), or nullopt. This is
+  // understand()'s first step; skills' tests use it to check their templates.
+  std::optional<Match> match_exact(std::string_view utterance, const Context& context) const;
+
+  // The full decision behind match(): normalisation, politeness stripped, an exact template
+  // match if any; else the intent model's ranking (trained from every intent's expanded
+  // templates and examples, plus out-of-scope sentences) combined with tolerant template
+  // matching (tolerant_matcher.h) for the slots. Accepted when the model is sure enough
+  // (kAcceptProbability) and out of scope is not likelier; kAsk when the top two intents
+  // are close and together likely; else kNone. An utterance of more than 64 words or with
+  // no words is kNone. Deterministic: the same intents give the same model and answers.
+  Understanding understand(std::string_view utterance, const Context& context) const;
+
+  // Builds the intent model now (it is otherwise built by the first understand()/match()
+  // after add()/remove_skill()). Returns the model's size in bytes.
+  std::size_t build_model() const;
 
   // Parses a dialogue answer as one value of `slot` ("at eight" for a datetime, "Anna" for
   // a contact). Up to two leading fillers ("it's", "to", "for", "the", ...) and a trailing

@@ -1,5 +1,6 @@
 #include "interpret/normalizer.h"
 
+#include <array>
 #include <span>
 
 #include "interpret/number_words.h"
@@ -77,10 +78,113 @@ std::vector<std::string> tokenize(std::string_view text) {
   return out;
 }
 
+struct Rewrite {
+  std::string_view from;
+  std::string_view to;  // one or more words
+};
+
+// Contractions people type and say; expanded so "what's the time" and "what is the time" are
+// the same words. Possessives ("mom's") are left alone: only these fixed forms change.
+constexpr std::array kContractions{
+    Rewrite{"what's", "what is"},   Rewrite{"whats", "what is"},     Rewrite{"it's", "it is"},
+    Rewrite{"that's", "that is"},   Rewrite{"there's", "there is"},  Rewrite{"here's", "here is"},
+    Rewrite{"who's", "who is"},     Rewrite{"where's", "where is"},  Rewrite{"when's", "when is"},
+    Rewrite{"how's", "how is"},     Rewrite{"what're", "what are"},  Rewrite{"i'm", "i am"},
+    Rewrite{"im", "i am"},          Rewrite{"i'd", "i would"},       Rewrite{"i'll", "i will"},
+    Rewrite{"i've", "i have"},      Rewrite{"you're", "you are"},    Rewrite{"you'd", "you would"},
+    Rewrite{"you'll", "you will"},  Rewrite{"you've", "you have"},   Rewrite{"we're", "we are"},
+    Rewrite{"we'll", "we will"},    Rewrite{"they're", "they are"},  Rewrite{"let's", "let us"},
+    Rewrite{"don't", "do not"},     Rewrite{"dont", "do not"},       Rewrite{"doesn't", "does not"},
+    Rewrite{"didn't", "did not"},   Rewrite{"can't", "cannot"},      Rewrite{"cant", "cannot"},
+    Rewrite{"won't", "will not"},   Rewrite{"isn't", "is not"},      Rewrite{"aren't", "are not"},
+    Rewrite{"wasn't", "was not"},   Rewrite{"haven't", "have not"},  Rewrite{"hasn't", "has not"},
+    Rewrite{"couldn't", "could not"}, Rewrite{"wouldn't", "would not"},
+    Rewrite{"shouldn't", "should not"}, Rewrite{"wanna", "want to"}, Rewrite{"gonna", "going to"},
+    Rewrite{"gotta", "got to"},     Rewrite{"gimme", "give me"},     Rewrite{"lemme", "let me"},
+    Rewrite{"can not", "cannot"},
+};
+
+// British spellings -> American, and a few common variants, so a template written either
+// way matches both.
+constexpr std::array kSpellings{
+    Rewrite{"colour", "color"},           Rewrite{"colours", "colors"},
+    Rewrite{"favourite", "favorite"},     Rewrite{"organise", "organize"},
+    Rewrite{"organised", "organized"},    Rewrite{"centre", "center"},
+    Rewrite{"programme", "program"},      Rewrite{"neighbour", "neighbor"},
+    Rewrite{"cancelled", "canceled"},     Rewrite{"cancelling", "canceling"},
+    Rewrite{"diarise", "diarize"},        Rewrite{"realise", "realize"},
+    Rewrite{"recognise", "recognize"},    Rewrite{"apologise", "apologize"},
+    Rewrite{"grey", "gray"},              Rewrite{"metre", "meter"},
+    Rewrite{"litre", "liter"},            Rewrite{"theatre", "theater"},
+    Rewrite{"travelling", "traveling"},   Rewrite{"labour", "labor"},
+    Rewrite{"tonite", "tonight"},         Rewrite{"tmrw", "tomorrow"},
+    Rewrite{"tmr", "tomorrow"},           Rewrite{"tomorow", "tomorrow"},
+    Rewrite{"2morrow", "tomorrow"},       Rewrite{"pls", "please"},
+    Rewrite{"plz", "please"},             Rewrite{"thx", "thanks"},
+    Rewrite{"mins", "minutes"},           Rewrite{"min", "minutes"},
+    Rewrite{"hrs", "hours"},              Rewrite{"hr", "hours"},
+    Rewrite{"secs", "seconds"},           Rewrite{"sec", "seconds"},
+    Rewrite{"o'clock", "o'clock"},        Rewrite{"oclock", "o'clock"},
+};
+
+// Ordinal words -> "1st" style tokens ("the third" = "the 3rd").
+constexpr std::array kOrdinals{
+    Rewrite{"first", "1st"},      Rewrite{"second", "2nd"},      Rewrite{"third", "3rd"},
+    Rewrite{"fourth", "4th"},     Rewrite{"fifth", "5th"},       Rewrite{"sixth", "6th"},
+    Rewrite{"seventh", "7th"},    Rewrite{"eighth", "8th"},      Rewrite{"ninth", "9th"},
+    Rewrite{"tenth", "10th"},     Rewrite{"eleventh", "11th"},   Rewrite{"twelfth", "12th"},
+    Rewrite{"thirteenth", "13th"}, Rewrite{"fifteenth", "15th"}, Rewrite{"twentieth", "20th"},
+    Rewrite{"thirtieth", "30th"},
+};
+
+template <std::size_t N>
+const Rewrite* find_rewrite(const std::array<Rewrite, N>& table, std::string_view word) {
+  for (const Rewrite& r : table) {
+    if (r.from == word) return &r;
+  }
+  return nullptr;
+}
+
+void push_words(std::string_view text, std::vector<std::string>& out) {
+  std::size_t at = 0;
+  while (at < text.size()) {
+    std::size_t space = text.find(' ', at);
+    if (space == std::string_view::npos) space = text.size();
+    out.emplace_back(text.substr(at, space - at));
+    at = space + 1;
+  }
+}
+
+// Contractions, spellings and ordinal words rewritten; "can not" joined first.
+std::vector<std::string> rewrite_words(std::vector<std::string> raw) {
+  std::vector<std::string> out;
+  out.reserve(raw.size() + 4);
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    const std::string& word = raw[i];
+    if (word == "can" && i + 1 < raw.size() && raw[i + 1] == "not") {
+      out.emplace_back("cannot");
+      ++i;
+      continue;
+    }
+    const Rewrite* r = find_rewrite(kContractions, word);
+    if (!r) r = find_rewrite(kSpellings, word);
+    // "second" is also a unit of time ("wait a second"): only "the second" is an ordinal.
+    if (!r && !(word == "second" && (out.empty() || out.back() != "the"))) {
+      r = find_rewrite(kOrdinals, word);
+    }
+    if (r) {
+      push_words(r->to, out);
+    } else {
+      out.push_back(word);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::string> normalize(std::string_view text) {
-  std::vector<std::string> raw = tokenize(text);
+  std::vector<std::string> raw = rewrite_words(tokenize(text));
   std::vector<std::string> out;
   out.reserve(raw.size());
   std::span<const std::string> all(raw);

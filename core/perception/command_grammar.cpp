@@ -286,6 +286,12 @@ std::vector<std::string> grammar_words(std::string_view text) {
   return words;
 }
 
+std::string GrammarOptions::default_polite_before() {
+  return "[hey] [(could|can|would|will) you] [please]";
+}
+
+std::string GrammarOptions::default_polite_after() { return "[please] [thanks|thank you]"; }
+
 std::vector<std::string> GrammarOptions::default_free_text_words() {
   // Everyday words for reminders and notes ("remind me to {task}"): errands, medicine,
   // meals, people, household objects. Extend through GrammarOptions.
@@ -428,6 +434,30 @@ GrammarResult build_command_grammar(std::span<const GrammarIntent> intents,
     for (const std::string& b : bodies) body += (body.empty() ? "" : " | ") + b;
     rules += "<" + prefix + "> = " + body + ";\n";
     top.push_back("<" + prefix + ">");
+  }
+  // Politeness around the commands: one rule for all intents, wrapped once.
+  auto polite = [&](const std::string& text, const char* what) -> std::string {
+    if (text.empty()) return "";
+    renderer.slots.clear();
+    std::optional<std::string> body = render_text(text, std::string(what) + " \"" + text + "\"");
+    return body ? *body : "";
+  };
+  const std::string before = polite(options.polite_before, "politeness before");
+  const std::string after = polite(options.polite_after, "politeness after");
+  if (!top.empty() && (!before.empty() || !after.empty())) {
+    std::string commands;
+    for (const std::string& t : top) commands += (commands.empty() ? "" : " | ") + t;
+    rules += "<commands> = " + commands + ";\n";
+    std::string wrapped = "<commands>";
+    if (!before.empty()) {
+      rules += "<polite_before> = " + before + ";\n";
+      wrapped = "<polite_before> " + wrapped;
+    }
+    if (!after.empty()) {
+      rules += "<polite_after> = " + after + ";\n";
+      wrapped += " <polite_after>";
+    }
+    top = {wrapped};
   }
 
   std::vector<std::string> conversation;

@@ -57,6 +57,17 @@ struct GrammarOptions {
   // off ("marvin, tell me the time" heard as "delete reminder"); "[marvin]" absorbs it. The
   // recognised text then starts with these words when they were heard. "" = none.
   std::string optional_prefix;
+  // Politeness and filler people put around a command (template syntax), accepted around
+  // every intent's templates but not around the conversation phrases: "could you please
+  // tell me the time", "set a timer for ten minutes please". "" = none. Words the
+  // recognizer does not know are left out like any template word.
+  std::string polite_before;
+  std::string polite_after;
+
+  // What the host uses: "[hey] [(could|can|would|will) you] [please]" before and
+  // "[please] [(thanks|thank you)]" after.
+  static std::string default_polite_before();
+  static std::string default_polite_after();
 
   static std::vector<std::string> default_free_text_words();
 };

@@ -104,6 +104,16 @@ data::Reminder reminder_from_json(const json& j, const std::string& default_time
   r.time_zone = string_field(j, "time_zone", false);
   if (r.time_zone.empty()) r.time_zone = default_time_zone;
   r.first_fire_utc_ms = local_to_utc_ms(string_field(j, "at", true), r.time_zone);
+  // Optional "utc_ms": the exact instant within that minute (a 90-second timer), which
+  // must lie in the minute "at" names.
+  if (auto exact = j.find("utc_ms"); exact != j.end()) {
+    if (!exact->is_number_integer()) bad("utc_ms", "expected an integer (ms since the epoch)");
+    const auto ms = exact->get<std::int64_t>();
+    if (ms < r.first_fire_utc_ms || ms >= r.first_fire_utc_ms + 60'000) {
+      bad("utc_ms", "must lie in the minute \"at\" names");
+    }
+    r.first_fire_utc_ms = ms;
+  }
   r.next_fire_utc_ms = r.first_fire_utc_ms;
   auto rec = j.find("recurrence");
   if (rec != j.end() && !rec->is_null()) {

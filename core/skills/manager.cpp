@@ -204,9 +204,21 @@ void Manager::handle(std::string_view utterance) {
     return;
   }
 
-  std::optional<interpret::Match> match = interpreter.match(utterance, context());
+  interpret::Understanding understood = interpreter.understand(utterance, context());
+  std::optional<interpret::Match> match;
+  if (understood.outcome == interpret::Understanding::Outcome::kMatch) {
+    match = std::move(understood.match);
+  } else if (understood.outcome == interpret::Understanding::Outcome::kAsk) {
+    // A wrong action is worse than a question.
+    match = clarify(understood.choices);
+    if (!match) return;
+  }
   if (!match) {
-    log(LogLevel::kInfo, "skills", "no match for \"" + std::string(utterance) + "\"");
+    // At most the first 200 bytes: a 1 MB line must not flood the log.
+    log(LogLevel::kInfo, "skills",
+        "no match for \"" + std::string(utterance.substr(0, 200)) + "\"" +
+            (utterance.size() > 200 ? " (" + std::to_string(utterance.size()) + " bytes)" : "") +
+            " (" + understood.reason + ")");
     say(no_match_sentence());
     return;
   }
@@ -248,6 +260,65 @@ bool Manager::fill_slots(const Manifest&, const IntentDecl& intent, interpret::M
     }
   }
   return true;
+}
+
+std::string Manager::describe(const interpret::Match& match) const {
+  LoadedSkill* skill = registry_.find(match.skill_id);
+  const IntentDecl* intent = skill ? skill->manifest.intent(match.intent) : nullptr;
+  if (intent && !intent->description.empty()) return intent->description;
+  std::string name = match.intent;
+  std::replace(name.begin(), name.end(), '_', ' ');
+  return skill ? skill->manifest.name + " (" + name + ")" : name;
+}
+
+std::optional<interpret::Match> Manager::clarify(const std::vector<interpret::Match>& choices) {
+  if (choices.size() < 2) return std::nullopt;
+  const interpret::Interpreter& interpreter = registry_.interpreter();
+  const std::string first = describe(choices[0]);
+  const std::string second = describe(choices[1]);
+  std::optional<std::string> answer = ask("Did you want " + first + " or " + second + "?");
+  if (!answer) return std::nullopt;
+  switch (interpreter.builtin(*answer)) {
+    case interpret::Builtin::kStop:
+      stop();
+      return std::nullopt;
+    case interpret::Builtin::kNo:
+      say("OK.");
+      return std::nullopt;
+    default:
+      break;
+  }
+  // "the first", "a reminder", "my schedule", or the request said again more clearly.
+  std::string text;
+  for (char c : *answer) text.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  auto mentions = [&](const std::string& description) {
+    std::string lower;
+    for (char c : description) lower.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+    std::size_t at = 0;
+    while (at < lower.size()) {
+      std::size_t end = lower.find(' ', at);
+      if (end == std::string::npos) end = lower.size();
+      std::string word = lower.substr(at, end - at);
+      if (word.size() > 3 && text.find(word) != std::string::npos) return true;
+      at = end + 1;
+    }
+    return false;
+  };
+  const bool says_first = text.find("first") != std::string::npos || mentions(first);
+  const bool says_second = text.find("second") != std::string::npos ||
+                           text.find("other") != std::string::npos || mentions(second);
+  if (says_first && !says_second) return choices[0];
+  if (says_second && !says_first) return choices[1];
+  interpret::Understanding again = interpreter.understand(*answer, context());
+  if (again.outcome == interpret::Understanding::Outcome::kMatch) {
+    for (const interpret::Match& choice : choices) {
+      if (choice.skill_id == again.match->skill_id && choice.intent == again.match->intent) {
+        return again.match;
+      }
+    }
+  }
+  say("Sorry, I didn't get that. Please ask me again.");
+  return std::nullopt;
 }
 
 bool Manager::confirm(const IntentDecl& intent, const interpret::Match& match) {

@@ -78,6 +78,11 @@ class Manager : public User {
  private:
   bool fill_slots(const Manifest& manifest, const IntentDecl& intent, interpret::Match& match);
   bool confirm(const IntentDecl& intent, const interpret::Match& match);
+  // "Did you want a reminder or your schedule?": the chosen reading, or nullopt after "no",
+  // "stop" or an answer naming neither.
+  std::optional<interpret::Match> clarify(const std::vector<interpret::Match>& choices);
+  // How the user would name an intent: its "description", else skill name and intent.
+  std::string describe(const interpret::Match& match) const;
   void run(LoadedSkill& skill, const IntentDecl& intent, const interpret::Match& match,
            std::string utterance);
   void execute(LoadedSkill& skill, const std::string& intent, const std::string& slots_json,

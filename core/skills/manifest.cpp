@@ -341,6 +341,37 @@ Manifest parse_manifest(const json& document, const std::string& file) {
       intent.templates.push_back(std::move(text));
     }
 
+    if (const json* d = r.optional(in, path, "description", json::value_t::string, "a string")) {
+      intent.description = d->get<std::string>();
+    }
+    if (const json* examples = r.optional(in, path, "examples", json::value_t::array,
+                                          "an array of sentences")) {
+      for (std::size_t e = 0; e < examples->size(); ++e) {
+        std::string ep = path + ".examples[" + std::to_string(e) + "]";
+        r.check_type((*examples)[e], ep, json::value_t::string, "a string");
+        std::string text = (*examples)[e].get<std::string>();
+        if (text.find_first_not_of(" \t") == std::string::npos) r.fail(ep, "must not be empty");
+        if (text.size() > 500) r.fail(ep, "longer than 500 bytes (an example is one sentence)");
+        intent.examples.push_back(std::move(text));
+      }
+    }
+    if (const json* synonyms = r.optional(in, path, "synonyms", json::value_t::object,
+                                          "an object of word: [words people say instead]")) {
+      for (const auto& [word, said] : synonyms->items()) {
+        std::string sp = path + ".synonyms." + word;
+        if (word.empty()) r.fail(sp, "the word must not be empty");
+        r.check_type(said, sp, json::value_t::array, "an array of strings");
+        std::vector<std::string> alternatives;
+        for (std::size_t k = 0; k < said.size(); ++k) {
+          std::string kp = sp + "[" + std::to_string(k) + "]";
+          r.check_type(said[k], kp, json::value_t::string, "a string");
+          if (said[k].get<std::string>().empty()) r.fail(kp, "must not be empty");
+          alternatives.push_back(said[k].get<std::string>());
+        }
+        intent.synonyms.emplace_back(word, std::move(alternatives));
+      }
+    }
+
     if (const json* c = r.optional(in, path, "confirm", json::value_t::boolean, "true or false")) {
       intent.confirm = c->get<bool>();
     }

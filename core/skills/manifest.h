@@ -17,6 +17,10 @@
 //       "templates": ["roll [a] (die|dice)", "roll {count} dice"],
 //       "slots": [{"name": "count", "type": "number", "required": false,
 //                  "question": "How many dice?"}],
+//       "examples": ["could you throw a die for me", ...],  // optional; natural sentences
+//                                         // (no template syntax) that train the intent model
+//       "synonyms": {"die": ["cube"]},    // optional; template word -> words said instead
+//       "description": "a dice roll",     // optional; named in "Did you want ... or ...?"
 //       "confirm": false,                 // optional; ask "confirm_question" before acting
 //       "confirm_question": "Shall I roll {count} dice?",  // optional; {slot} = words heard
 //       "execution": "short",             // optional; "short" (host loop) or "long" (worker)
@@ -81,6 +85,10 @@ struct IntentDecl {
   std::string name;
   std::vector<std::string> templates;
   std::vector<SlotDecl> slots;
+  std::string description;  // "a reminder": how to name it in "Did you want ...?" (optional)
+  std::vector<std::string> examples;  // natural sentences for the intent model (optional)
+  // word in the templates -> words people say instead ("reminder": ["alarm"]) (optional)
+  std::vector<std::pair<std::string, std::vector<std::string>>> synonyms;
   bool confirm = false;
   std::string confirm_question;  // default "Shall I go ahead?"
   Execution execution = Execution::kShort;

@@ -42,6 +42,8 @@ interpret::IntentSpec intent_spec(const Manifest& manifest, const IntentDecl& in
   spec.skill_id = manifest.id;
   spec.intent = intent.name;
   spec.templates = intent.templates;
+  spec.examples = intent.examples;
+  spec.synonyms = intent.synonyms;
   for (const SlotDecl& slot : intent.slots) spec.slots.push_back(slot_spec(slot));
   return spec;
 }

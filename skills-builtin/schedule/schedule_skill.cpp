@@ -185,6 +185,11 @@ class ScheduleSkill : public marvin::Skill {
     if (request.intent == "done") return done();
     if (request.intent == "add_contact") return add_contact(request);
     if (request.intent == "contact_number") return contact_number(request.slots.at("name").get<std::string>());
+    if (request.intent == "add_event") return remind(request);
+    if (request.intent == "list_reminders") return list_reminders();
+    if (request.intent == "set_timer") return set_timer(request.slots.at("duration").get<std::int64_t>());
+    if (request.intent == "timer_left") return timer_left();
+    if (request.intent == "cancel_timer") return cancel_timer();
     throw marvin::Error(MARVIN_ERR_INVALID, "unknown intent '" + request.intent + "'");
   }
 
@@ -211,6 +216,95 @@ class ScheduleSkill : public marvin::Skill {
       when_text = when_text.empty() ? first : when_text + ", starting " + first;
     }
     robot().say("OK, I'll remind you to " + second_person(task) + " " + when_text + ".");
+  }
+
+  // Timers are reminders titled "timer ..." (durable like them: they survive a restart and
+  // fire through the same scheduler), set to the second with "utc_ms".
+  static constexpr const char* kTimerTitle = "your timer is done";
+
+  static std::string spoken_duration(std::int64_t seconds) {
+    std::vector<std::string> parts;
+    const std::int64_t h = seconds / 3600, m = seconds % 3600 / 60, s = seconds % 60;
+    auto part = [&](std::int64_t n, const char* unit) {
+      if (n > 0) parts.push_back(std::to_string(n) + " " + unit + (n == 1 ? "" : "s"));
+    };
+    part(h, "hour");
+    part(m, "minute");
+    part(s, "second");
+    return parts.empty() ? "less than a second" : join_and(parts);
+  }
+
+  std::vector<json> running_timers() {
+    const std::int64_t now = robot().now_ms();
+    std::vector<json> timers;
+    for (const json& r : robot().schedule_list(now, std::numeric_limits<std::int64_t>::max())) {
+      if (r.value("title", "") == kTimerTitle) timers.push_back(r);
+    }
+    std::stable_sort(timers.begin(), timers.end(), [](const json& a, const json& b) {
+      return a.value("next_fire_utc_ms", std::int64_t{0}) < b.value("next_fire_utc_ms", std::int64_t{0});
+    });
+    return timers;
+  }
+
+  void set_timer(std::int64_t seconds) {
+    if (seconds <= 0 || seconds > 24 * 3600) {
+      robot().say("Sorry, I can set a timer from one second up to 24 hours.");
+      return;
+    }
+    const std::int64_t fire_ms = robot().now_ms() + seconds * 1000;
+    const date::time_zone* zone = date::locate_zone(robot().time_zone());
+    const auto fire = date::sys_time<std::chrono::milliseconds>{std::chrono::milliseconds{fire_ms}};
+    const std::string at =
+        date::format("%Y-%m-%dT%H:%M", zone->to_local(date::floor<std::chrono::minutes>(fire)));
+    robot().schedule_add({{"title", kTimerTitle}, {"at", at}, {"utc_ms", fire_ms}});
+    robot().say("OK, timer set for " + spoken_duration(seconds) + ".");
+  }
+
+  void timer_left() {
+    const std::vector<json> timers = running_timers();
+    if (timers.empty()) {
+      robot().say("You have no timer running.");
+      return;
+    }
+    const std::int64_t left_ms =
+        timers.front().value("next_fire_utc_ms", std::int64_t{0}) - robot().now_ms();
+    robot().say(capital(spoken_duration((left_ms + 999) / 1000)) + " left on your timer" +
+                (timers.size() > 1 ? " (and " + std::to_string(timers.size() - 1) + " more)." : "."));
+  }
+
+  void cancel_timer() {
+    const std::vector<json> timers = running_timers();
+    if (timers.empty()) {
+      robot().say("You have no timer running.");
+      return;
+    }
+    for (const json& t : timers) robot().schedule_remove(t.at("id").get<std::int64_t>());
+    robot().say(timers.size() == 1 ? "OK, I cancelled the timer."
+                                   : "OK, I cancelled all " + std::to_string(timers.size()) + " timers.");
+  }
+
+  // Upcoming reminders, soonest first (at most five named).
+  void list_reminders() {
+    const std::int64_t now = robot().now_ms();
+    std::vector<json> all;
+    for (const json& r : robot().schedule_list(now, std::numeric_limits<std::int64_t>::max())) {
+      if (r.value("title", "") != kTimerTitle) all.push_back(r);
+    }
+    std::stable_sort(all.begin(), all.end(), [](const json& a, const json& b) {
+      return a.value("next_fire_utc_ms", std::int64_t{0}) < b.value("next_fire_utc_ms", std::int64_t{0});
+    });
+    if (all.empty()) {
+      robot().say("You have no reminders set.");
+      return;
+    }
+    std::vector<std::string> texts;
+    for (std::size_t i = 0; i < all.size() && i < 5; ++i) {
+      const LocalTime at = parse_local(all[i].at("at").get<std::string>());
+      texts.push_back(second_person(all[i].value("title", "")) + " " + spoken_day(at.day, today()) +
+                      " at " + spoken_time(at.minute_of_day));
+    }
+    robot().say("You have " + std::to_string(all.size()) + (all.size() == 1 ? " reminder: " : " reminders: ") +
+                join_and(texts) + (all.size() > 5 ? ", and more." : "."));
   }
 
   struct Entry {

@@ -202,3 +202,24 @@ TEST_CASE("snooze and done without the schedule permission: refused, nothing sai
   d->destroy(instance);
   dlclose(library);
 }
+
+TEST_CASE("timers: set to the second, how long is left, cancel; stored like reminders") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  const std::int64_t start = 1767603600000;  // the MockRobot's clock: 2026-01-05T09:00Z
+  h.robot().set_now(start + 15'000);
+  CHECK(h.say("set a timer for 90 seconds") == Lines{"OK, timer set for 1 minute and 30 seconds."});
+  const auto stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["title"] == "your timer is done");
+  CHECK(stored[0]["next_fire_utc_ms"] == start + 105'000);  // to the second, not the minute
+  h.robot().set_now(start + 45'000);
+  CHECK(h.say("how long is left") == Lines{"1 minute left on your timer."});
+  CHECK(h.say("what reminders do i have") == Lines{"You have no reminders set."});
+  CHECK(h.say("cancel the timer") == Lines{"OK, I cancelled the timer."});
+  CHECK(reminders(h).empty());
+  CHECK(h.say("how long is left") == Lines{"You have no timer running."});
+  CHECK(h.say("set a timer for 2 days") ==
+        Lines{"Sorry, I can set a timer from one second up to 24 hours."});
+  CHECK(reminders(h).empty());
+}

@@ -143,7 +143,7 @@ TEST_CASE("matching: near misses do not match") {
   };
   for (const char* utterance : cases) {
     CAPTURE(utterance);
-    CHECK_FALSE(interpreter.match(utterance, context));
+    CHECK_FALSE(interpreter.match_exact(utterance, context));
   }
 }
 
@@ -280,7 +280,8 @@ TEST_CASE("builtins: stop, yes, no, repeat") {
       {"what time is it", Builtin::kNone}, {"please", Builtin::kNone},
   };
   for (const Case& c : cases) {
-    CAPTURE(c.utterance);
+    std::string utterance = c.utterance;
+    CAPTURE(utterance);
     CHECK(interpreter.builtin(c.utterance) == c.expected);
   }
 }

@@ -124,3 +124,23 @@ TEST_CASE("template errors name intent, template and column") {
   CHECK_THROWS_WITH_AS(build_command_grammar(intents, bare()), doctest::Contains("empty"),
                        GrammarError);
 }
+
+TEST_CASE("politeness is accepted around commands, not around conversation phrases") {
+  std::vector<GrammarIntent> intents = {{"time.query", {"what time is it"}, {}}};
+  GrammarOptions options = bare();
+  options.conversation_phrases = {"stop"};
+  options.polite_before = GrammarOptions::default_polite_before();
+  options.polite_after = GrammarOptions::default_polite_after();
+  const GrammarResult result = build_command_grammar(intents, options);
+  CAPTURE(result.jsgf);
+  CHECK(contains(result.jsgf,
+                 "public <command> = <polite_before> <commands> <polite_after> | <conversation>;"));
+  CHECK(contains(result.jsgf, "<commands> = <i0_time_query>;"));
+  CHECK(contains(result.jsgf,
+                 "<polite_before> = [hey] [(could | can | would | will) you] [please];"));
+  CHECK(contains(result.jsgf, "<polite_after> = [please] [thanks | thank you];"));
+  // Words the recognizer lacks are left out of the politeness like anywhere else.
+  const GrammarResult no_hey = build_command_grammar(
+      intents, options, [](std::string_view word) { return word != "hey"; });
+  CHECK_FALSE(contains(no_hey.jsgf, "[hey]"));
+}

@@ -378,3 +378,64 @@ TEST_CASE("a long skill out of time is cancelled and the user told") {
   CHECK(g_walks_cancelled == 1);
   CHECK(s.body.motions() == Lines{"move", "stop"});
 }
+
+// --- understanding requests as people say them ----------------------------------------
+
+namespace {
+
+class Glower : public marvin::Skill {
+ public:
+  using Skill::Skill;
+  void handle(const marvin::Request& r) override { robot().say("Glowing: " + r.intent); }
+};
+
+// Two skills trained on the same sentences: the model cannot tell them apart, so the
+// manager must ask instead of acting.
+const char* kLampA = R"({"id": "lamp-a", "name": "Lamp A", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "intents": [{"name": "glow", "templates": ["alpha glow"],
+   "description": "the desk lamp",
+   "examples": ["make the room brighter", "brighten the room a bit", "i want more brightness",
+                "the room is too dim", "more brightness in here"]}]})";
+const char* kLampB = R"({"id": "lamp-b", "name": "Lamp B", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "intents": [{"name": "shine", "templates": ["beta glow"],
+   "description": "the ceiling light",
+   "examples": ["make the room brighter", "brighten the room a bit", "i want more brightness",
+                "the room is too dim", "more brightness in here"]}]})";
+
+}  // namespace
+
+TEST_CASE("unsure between two skills: ask; 'no' goes back to listening, a choice runs it") {
+  Dialogue d;
+  d.registry.add_native(manifest(kLampA), marvin::skill_descriptor<Glower>("lamp-a"));
+  d.registry.add_native(manifest(kLampB), marvin::skill_descriptor<Glower>("lamp-b"));
+  // The likelier reading is named first; the two are nearly equal here.
+  const std::string question = "Did you want the ceiling light or the desk lamp?";
+  CHECK(d.turn("the room is too dim", {"no"}) == Lines{question, "OK."});
+  Lines stopped = d.turn("the room is too dim", {"stop"});
+  REQUIRE_FALSE(stopped.empty());
+  CHECK(stopped.front() == question);
+  CHECK(stopped.size() == 2);  // the question, then "OK." from stop
+  CHECK(d.turn("the room is too dim", {"the desk lamp please"}) ==
+        Lines{question, "Glowing: glow"});
+  CHECK(d.turn("the room is too dim", {"the first one"}) == Lines{question, "Glowing: shine"});
+  CHECK(d.turn("the room is too dim", {"banana"}) ==
+        Lines{question, "Sorry, I didn't get that. Please ask me again."});
+}
+
+TEST_CASE("bad input gets a clear answer and runs nothing") {
+  Dialogue d;
+  const std::string no_match = d.turn("what is the meaning of life").at(0);
+  CHECK(no_match.rfind("Sorry, I don't know how to help with that.", 0) == 0);
+  const std::string huge(1 << 20, 'a');
+  std::string spaced;
+  for (int i = 0; i < 100000; ++i) spaced += "hello ";
+  std::string binary;
+  for (int i = 0; i < 4096; ++i) binary.push_back(static_cast<char>(i % 256));
+  const std::string invalid_utf8 = "\xc3\x28 \xa0\xa1 \xf0\x28\x8c\xbc";
+  for (const std::string& input : {std::string(), huge, spaced, binary, invalid_utf8}) {
+    CAPTURE(input.size());
+    CHECK(d.turn(input) == Lines{no_match});
+  }
+  CHECK(d.body.motions().empty());
+  CHECK(d.data.list_contacts().size() == 1);  // only Anna, as before
+}
