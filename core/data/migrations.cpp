@@ -74,6 +74,16 @@ ALTER TABLE reminders ADD COLUMN last_fired_utc_ms INTEGER;
 CREATE INDEX reminders_due ON reminders(state, next_fire_utc_ms);
 CREATE INDEX contact_aliases_alias ON contact_aliases(alias COLLATE NOCASE);
 )sql",
+    // 3 -> 4: phone calls (issue 20): SIP addresses and the emergency order of contacts.
+    R"sql(
+ALTER TABLE contacts ADD COLUMN emergency_order INTEGER NOT NULL DEFAULT 0
+  CHECK (emergency_order >= 0);
+CREATE TABLE contact_sip_uris(
+  contact_id INTEGER NOT NULL REFERENCES contacts(id) ON DELETE CASCADE,
+  position INTEGER NOT NULL,
+  uri TEXT NOT NULL,
+  PRIMARY KEY (contact_id, position));
+)sql",
 };
 
 }  // namespace
