@@ -8,6 +8,7 @@
 #include "common/log.h"
 #include "support/files.h"
 #include "telephony/call_fixture.h"
+#include "telephony/emergency_call.h"
 
 namespace marvin::telephony {
 namespace {
@@ -255,6 +256,87 @@ TEST_CASE("bad phone settings are refused naming the setting") {
   CHECK_THROWS_WITH(write_baresip_config(s, 5060, 4444, dir.path()),
                     doctest::Contains("password must not contain line breaks"));
   CHECK_FALSE(std::filesystem::exists(dir / "config"));
+}
+
+}  // namespace
+}  // namespace marvin::telephony
+
+namespace marvin::telephony {
+namespace {
+
+TEST_CASE("call for help: busy, then no answer, then the third contact answers") {
+  test_support::TempDir dir;
+  TestPeer anna(dir / "anna", /*auto_answer=*/false, "anna");
+  TestPeer ben(dir / "ben", /*auto_answer=*/false, "ben");
+  TestPeer carla(dir / "carla", /*auto_answer=*/true, "carla");
+  EventLog<std::string> steps;
+  EmergencyCall* emergency = nullptr;
+  std::mutex emergency_mutex;
+  Phone phone(testing::marvin_settings(dir / "marvin"), dir / "marvin" / "baresip",
+              [&](const PhoneEvent& e) {
+                std::lock_guard lock(emergency_mutex);
+                if (emergency) emergency->on_phone_event(e);
+              },
+              std::chrono::milliseconds(800));
+  phone.start();
+  REQUIRE(phone.wait_ready(kWait));
+  {
+    EmergencyCall call(phone,
+                       {{"Anna", anna.uri()}, {"Ben", ben.uri()}, {"Carla", carla.uri()}},
+                       [&](const std::string& text) { steps.add(text); });
+    {
+      std::lock_guard lock(emergency_mutex);
+      emergency = &call;
+    }
+    call.start();
+    std::size_t from = 0;
+    REQUIRE(anna.wait_event("CALL_INCOMING", &from));
+    REQUIRE(anna.ua().command("hangup").ok);  // Anna declines
+    const auto answered = call.wait(kWait);
+    REQUIRE(answered);
+    CHECK(*answered == "Carla");
+    CHECK(steps.all() == std::vector<std::string>{
+                             "Calling Anna for help", "Anna did not answer (busy)",
+                             "Calling Ben for help", "Ben did not answer (no answer)",
+                             "Calling Carla for help", "Carla answered the emergency call"});
+    CHECK(phone.state() == CallState::kInCall);
+    CHECK(phone.peer() == carla.uri());
+    std::lock_guard lock(emergency_mutex);
+    emergency = nullptr;
+  }
+}
+
+TEST_CASE("call for help: nobody answers, and that is said") {
+  test_support::TempDir dir;
+  TestPeer anna(dir / "anna", /*auto_answer=*/false, "anna");
+  EventLog<std::string> steps;
+  std::optional<EmergencyCall> call;
+  std::mutex call_mutex;
+  Phone phone(testing::marvin_settings(dir / "marvin"), dir / "marvin" / "baresip",
+              [&](const PhoneEvent& e) {
+                std::lock_guard lock(call_mutex);
+                if (call) call->on_phone_event(e);
+              },
+              std::chrono::milliseconds(500));
+  phone.start();
+  REQUIRE(phone.wait_ready(kWait));
+  {
+    std::lock_guard lock(call_mutex);
+    call.emplace(phone,
+                 std::vector<EmergencyContact>{{"Anna", anna.uri()},
+                                               {"Nobody", "sip:nobody@127.0.0.1:1"}},
+                 [&](const std::string& text) { steps.add(text); });
+  }
+  call->start();
+  const auto answered = call->wait(kWait);
+  REQUIRE(answered);
+  CHECK(answered->empty());
+  const auto all = steps.all();
+  REQUIRE(all.size() == 5);
+  CHECK(all[1] == "Anna did not answer (no answer)");
+  CHECK(all[4] == "Nobody answered the emergency call");
+  std::lock_guard lock(call_mutex);
+  call.reset();
 }
 
 }  // namespace
