@@ -205,6 +205,9 @@ void install_data(CLI::App& root) {
     cmd->add_option("--phone", c->phone_numbers, "Phone number (repeatable)");
     cmd->add_option("--alias", c->aliases, "Another name, e.g. \"my daughter\" (repeatable)");
     cmd->add_option("--relation", c->relation, "e.g. daughter, doctor");
+    cmd->add_option("--sip", c->sip_uris, "SIP address, e.g. sip:anna@example.org (repeatable)");
+    cmd->add_option("--emergency", c->emergency_order,
+                    "Order in which \"call for help\" tries this contact (1 = first)");
     dir->add_to(*cmd);
     cmd->callback([dir, c] {
       SqliteStore store = dir->open();
@@ -222,7 +225,9 @@ void install_data(CLI::App& root) {
         std::printf("%lld  %s", static_cast<long long>(c.id), c.name.c_str());
         if (!c.relation.empty()) std::printf(" (%s)", c.relation.c_str());
         if (!c.phone_numbers.empty()) std::printf("  %s", join(c.phone_numbers, ", ").c_str());
+        if (!c.sip_uris.empty()) std::printf("  %s", join(c.sip_uris, ", ").c_str());
         if (!c.aliases.empty()) std::printf("  aka %s", join(c.aliases, ", ").c_str());
+        if (c.emergency_order > 0) std::printf("  emergency #%d", c.emergency_order);
         std::printf("\n");
       }
     });

@@ -81,6 +81,16 @@ CREATE TABLE device_aliases(
   alias TEXT NOT NULL PRIMARY KEY COLLATE NOCASE CHECK (alias <> ''),
   device TEXT NOT NULL CHECK (device <> '')) WITHOUT ROWID;
 )sql",
+    // 4 -> 5: phone calls (issue 20): SIP addresses and the emergency order of contacts.
+    R"sql(
+ALTER TABLE contacts ADD COLUMN emergency_order INTEGER NOT NULL DEFAULT 0
+  CHECK (emergency_order >= 0);
+CREATE TABLE contact_sip_uris(
+  contact_id INTEGER NOT NULL REFERENCES contacts(id) ON DELETE CASCADE,
+  position INTEGER NOT NULL,
+  uri TEXT NOT NULL,
+  PRIMARY KEY (contact_id, position));
+)sql",
 };
 
 }  // namespace

@@ -52,6 +52,9 @@ struct Contact {
   std::vector<std::string> aliases;        // "my daughter", "Anna"
   std::string relation;                    // "daughter"
   std::vector<std::string> phone_numbers;  // as the user gave them
+  std::vector<std::string> sip_uris;       // "sip:anna@example.org" (calls over the internet)
+  // 0: not an emergency contact; 1, 2, ...: the order "call for help" tries them in.
+  int emergency_order = 0;
 };
 
 struct Person {

@@ -65,6 +65,16 @@ void validate_contact(const Contact& c) {
   }
   for (const std::string& alias : c.aliases)
     if (alias.empty()) throw std::runtime_error("aliases: an alias may not be empty");
+  for (const std::string& uri : c.sip_uris) {
+    const auto at = uri.find('@');
+    if (uri.rfind("sip:", 0) != 0 || at == std::string::npos || at == 4 || at + 1 == uri.size() ||
+        uri.find_first_of(" \t\r\n<>\";") != std::string::npos)
+      throw std::runtime_error("sip_uris: '" + uri +
+                               "' is not a SIP address (expected sip:user@host)");
+  }
+  if (c.emergency_order < 0)
+    throw std::runtime_error("emergency_order: must be 0 (none) or 1, 2, ... (the order), got " +
+                             std::to_string(c.emergency_order));
 }
 
 void check_skill_key(std::string_view skill_id, std::string_view key) {
@@ -406,22 +416,30 @@ void insert_contact_lists(sqlite3* db, const std::string& path, std::int64_t id,
     phone.reset();
     phone.bind(1, id).bind(2, static_cast<std::int64_t>(i)).bind(3, c.phone_numbers[i]).run();
   }
+  Statement sip(db, path, "INSERT INTO contact_sip_uris(contact_id, position, uri) VALUES(?,?,?)");
+  for (std::size_t i = 0; i < c.sip_uris.size(); ++i) {
+    sip.reset();
+    sip.bind(1, id).bind(2, static_cast<std::int64_t>(i)).bind(3, c.sip_uris[i]).run();
+  }
 }
 
 std::vector<Contact> load_contacts(sqlite3* db, const std::string& path, const char* where,
                                    const std::function<void(Statement&)>& bind = {}) {
   std::vector<Contact> out;
-  Statement s(db, path, std::string("SELECT id, name, relation FROM contacts ") + where);
+  Statement s(db, path,
+              std::string("SELECT id, name, relation, emergency_order FROM contacts ") + where);
   if (bind) bind(s);
   while (s.step()) {
     Contact c;
     c.id = s.int64(0);
     c.name = s.text(1);
     c.relation = s.text(2);
+    c.emergency_order = static_cast<int>(s.int64(3));
     out.push_back(std::move(c));
   }
   Statement alias(db, path, "SELECT alias FROM contact_aliases WHERE contact_id = ? ORDER BY position");
   Statement phone(db, path, "SELECT number FROM contact_phones WHERE contact_id = ? ORDER BY position");
+  Statement sip(db, path, "SELECT uri FROM contact_sip_uris WHERE contact_id = ? ORDER BY position");
   for (Contact& c : out) {
     alias.reset();
     alias.bind(1, c.id);
@@ -429,6 +447,9 @@ std::vector<Contact> load_contacts(sqlite3* db, const std::string& path, const c
     phone.reset();
     phone.bind(1, c.id);
     while (phone.step()) c.phone_numbers.push_back(phone.text(0));
+    sip.reset();
+    sip.bind(1, c.id);
+    while (sip.step()) c.sip_uris.push_back(sip.text(0));
   }
   return out;
 }
@@ -439,8 +460,9 @@ std::int64_t SqliteStore::add_contact(const Contact& c) {
   validate_contact(c);
   std::lock_guard lock(mutex_);
   Transaction tx(db_, path_text_);
-  Statement s(db_, path_text_, "INSERT INTO contacts(name, relation) VALUES(?, ?)");
-  s.bind(1, c.name).bind(2, c.relation).run();
+  Statement s(db_, path_text_,
+              "INSERT INTO contacts(name, relation, emergency_order) VALUES(?, ?, ?)");
+  s.bind(1, c.name).bind(2, c.relation).bind(3, std::int64_t{c.emergency_order}).run();
   const std::int64_t id = sqlite3_last_insert_rowid(db_);
   insert_contact_lists(db_, path_text_, id, c);
   tx.commit();
@@ -676,7 +698,9 @@ json SqliteStore::export_json() {
                         {"name", c.name},
                         {"aliases", c.aliases},
                         {"relation", c.relation},
-                        {"phone_numbers", c.phone_numbers}});
+                        {"phone_numbers", c.phone_numbers},
+                        {"sip_uris", c.sip_uris},
+                        {"emergency_order", c.emergency_order}});
   doc["contacts"] = std::move(contacts);
   json people = json::array();
   {
@@ -836,6 +860,11 @@ void SqliteStore::import_json(const json& doc, std::string_view source_view) {
     c.aliases = field<std::vector<std::string>>(jc[i], "aliases", w);
     c.relation = field<std::string>(jc[i], "relation", w);
     c.phone_numbers = field<std::vector<std::string>>(jc[i], "phone_numbers", w);
+    // Backups from before schema 4 have neither.
+    if (jc[i].contains("sip_uris"))
+      c.sip_uris = field<std::vector<std::string>>(jc[i], "sip_uris", w);
+    if (jc[i].contains("emergency_order"))
+      c.emergency_order = field<int>(jc[i], "emergency_order", w);
     try {
       validate_contact(c);
     } catch (const std::exception& ex) {
@@ -902,7 +931,7 @@ void SqliteStore::import_json(const json& doc, std::string_view source_view) {
   Transaction tx(db_, path_text_);
   sql::exec(db_, path_text_,
             "DELETE FROM face_embeddings; DELETE FROM people; DELETE FROM contact_aliases; "
-            "DELETE FROM contact_phones; DELETE FROM contacts; DELETE FROM reminders; "
+            "DELETE FROM contact_phones; DELETE FROM contact_sip_uris; DELETE FROM contacts; DELETE FROM reminders; "
             "DELETE FROM skill_storage; DELETE FROM events;");
   {
     Statement s(db_, path_text_,
@@ -923,10 +952,11 @@ void SqliteStore::import_json(const json& doc, std::string_view source_view) {
     }
   }
   {
-    Statement s(db_, path_text_, "INSERT INTO contacts(id, name, relation) VALUES(?,?,?)");
+    Statement s(db_, path_text_,
+                "INSERT INTO contacts(id, name, relation, emergency_order) VALUES(?,?,?,?)");
     for (const Contact& c : contacts) {
       s.reset();
-      s.bind(1, c.id).bind(2, c.name).bind(3, c.relation).run();
+      s.bind(1, c.id).bind(2, c.name).bind(3, c.relation).bind(4, std::int64_t{c.emergency_order}).run();
       insert_contact_lists(db_, path_text_, c.id, c);
     }
   }

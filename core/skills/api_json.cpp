@@ -213,6 +213,12 @@ data::Contact contact_from_json(const json& j) {
   c.aliases = string_list(j, "aliases");
   c.relation = string_field(j, "relation", false);
   c.phone_numbers = string_list(j, "phone_numbers");
+  c.sip_uris = string_list(j, "sip_uris");
+  if (auto it = j.find("emergency_order"); it != j.end()) {
+    if (!it->is_number_integer() || it->get<int>() < 0)
+      bad("emergency_order", "must be 0 (none) or 1, 2, ... (the order calls for help try)");
+    c.emergency_order = it->get<int>();
+  }
   return c;
 }
 
@@ -221,7 +227,9 @@ json contact_to_json(const data::Contact& c) {
               {"name", c.name},
               {"aliases", c.aliases},
               {"relation", c.relation},
-              {"phone_numbers", c.phone_numbers}};
+              {"phone_numbers", c.phone_numbers},
+              {"sip_uris", c.sip_uris},
+              {"emergency_order", c.emergency_order}};
 }
 
 json person_to_json(const data::Person& p) {

@@ -11,6 +11,7 @@
 #include "test_support.h"
 
 using namespace marvin::data;
+using nlohmann::json;
 using marvin::test_support::read_text;
 using marvin::data::test::TempDir;
 using marvin::test_support::write_text;
@@ -128,6 +129,9 @@ TEST_CASE("every older schema migrates to the newest and keeps its data") {
       CHECK(r->recurrence.kind == Recurrence::Kind::kDaily);
       CHECK(r->next_fire_utc_ms == 86401000);
       CHECK(store.find_contacts("anna").at(0).phone_numbers == std::vector<std::string>{"+49 1"});
+      // Schema 4 (phone calls): older contacts are no emergency contacts and have no SIP address.
+      CHECK(store.find_contacts("anna").at(0).emergency_order == 0);
+      CHECK(store.find_contacts("anna").at(0).sip_uris.empty());
       CHECK(store.storage_get("dice", "last") == std::string("\x01\x02"));
     }
     if (from >= 2) CHECK(store.list_people().at(0).contact_id == 3);
@@ -256,6 +260,13 @@ TEST_CASE("bad reminders and contacts are refused with the field named, nothing 
   c = anna();
   c.name.clear();
   CHECK_THROWS_WITH(store.add_contact(c), "name: a contact needs a name");
+  c = anna();
+  c.sip_uris.push_back("anna@example.org");
+  CHECK_THROWS_WITH(store.add_contact(c), "sip_uris: 'anna@example.org' is not a SIP address "
+                                          "(expected sip:user@host)");
+  c = anna();
+  c.emergency_order = -1;
+  CHECK_THROWS_WITH(store.add_contact(c), doctest::Contains("emergency_order: must be 0"));
   CHECK_THROWS_WITH(store.add_person({0, "Ghost", 4242}), "contact_id: there is no contact 4242");
   const float v[2] = {1, 2};
   CHECK_THROWS_WITH(store.add_face_embedding(999, "m", v), "person_id: there is no person 999");
@@ -289,6 +300,34 @@ TEST_CASE("contacts: find by name, word of the name or alias, case-insensitively
   CHECK(store.list_people().at(0).id == p);
   CHECK_FALSE(store.list_people().at(0).contact_id.has_value());
   CHECK(store.list_contacts().size() == 1);
+}
+
+TEST_CASE("contacts keep SIP addresses and their emergency order, also through a backup") {
+  TempDir dir;
+  Contact c = anna();
+  c.sip_uris = {"sip:anna@example.org", "sip:anna@127.0.0.1:5070"};
+  c.emergency_order = 2;
+  json backup;
+  {
+    SqliteStore store(at(dir.db()));
+    const auto id = store.add_contact(c);
+    const Contact back = store.list_contacts().at(0);
+    CHECK(back.id == id);
+    CHECK(back.sip_uris == c.sip_uris);
+    CHECK(back.emergency_order == 2);
+    backup = store.export_json();
+    CHECK(backup["contacts"][0]["sip_uris"] == json(c.sip_uris));
+    // A backup written before schema 4 has neither field: it still imports.
+    json old = backup;
+    old["contacts"][0].erase("sip_uris");
+    old["contacts"][0].erase("emergency_order");
+    store.import_json(old, "old.json");
+    CHECK(store.list_contacts().at(0).sip_uris.empty());
+    CHECK(store.list_contacts().at(0).emergency_order == 0);
+    store.import_json(backup, "backup.json");
+    CHECK(store.list_contacts().at(0).sip_uris == c.sip_uris);
+    CHECK(store.list_contacts().at(0).emergency_order == 2);
+  }
 }
 
 TEST_CASE("per-skill storage is isolated per skill id") {
@@ -338,7 +377,7 @@ TEST_CASE("export and import round-trip everything") {
   const std::string text = exported.dump();
   {
     SqliteStore b(at(b_dir.db(), &clock));
-    b.add_contact(Contact{0, "Old", {}, "", {}});  // replaced by the import
+    b.add_contact(Contact{0, "Old", {}, "", {}, {}, 0});  // replaced by the import
     b.import_json(nlohmann::json::parse(text), "backup.json");
     CHECK(b.export_json() == exported);
     CHECK(b.find_contacts("Old").empty());

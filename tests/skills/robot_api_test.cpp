@@ -171,10 +171,26 @@ TEST_CASE("contacts and people") {
   REQUIRE(found.size() == 1);
   CHECK(found[0]["name"] == "Anna Schmidt");
   CHECK(found[0]["phone_numbers"][0] == "+49 30 1234");
+  CHECK(found[0]["sip_uris"] == json::array());
+  CHECK(found[0]["emergency_order"] == 0);
+  out = {buffer, sizeof buffer, 0};
+  REQUIRE(api().contacts_add(c.host(), R"({"name":"Dr Weber","relation":"doctor",
+                                           "sip_uris":["sip:weber@example.org"],
+                                           "emergency_order":1})",
+                             &out) == MARVIN_OK);
+  out = {buffer, sizeof buffer, 0};
+  REQUIRE(api().contacts_find(c.host(), "Dr Weber", &out) == MARVIN_OK);
+  found = json::parse(std::string(buffer, out.length));
+  REQUIRE(found.size() == 1);
+  CHECK(found[0]["sip_uris"][0] == "sip:weber@example.org");
+  CHECK(found[0]["emergency_order"] == 1);
+  CHECK(api().contacts_add(c.host(), R"({"name":"X","emergency_order":"first"})", nullptr) ==
+        MARVIN_ERR_INVALID);
+  CHECK(std::string(api().last_error(c.host())).find("emergency_order") != std::string::npos);
 
   CHECK(api().contacts_add(c.host(), R"({"aliases":[]})", nullptr) == MARVIN_ERR_INVALID);
   CHECK(std::string(api().last_error(c.host())) == "contact_json: \"name\": missing");
-  CHECK(w.data.list_contacts().size() == 1);
+  CHECK(w.data.list_contacts().size() == 2);
 
   marvin::data::Person p;
   p.name = "Anna";

@@ -1,0 +1,361 @@
+#include "telephony/baresip.h"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <vector>
+
+#include "common/log.h"
+
+extern char** environ;
+
+namespace marvin::telephony {
+namespace {
+
+constexpr std::string_view kReadyBanner = "baresip is ready.";
+constexpr std::size_t kTailBytes = 4096;
+constexpr const char* kProbeToken = "marvin-ready";
+
+void log_phone(LogLevel level, const std::string& message) { log(level, "phone", message); }
+
+std::string json_string(const nlohmann::json& j, const char* key) {
+  auto it = j.find(key);
+  return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+bool json_true(const nlohmann::json& j, const char* key) {
+  auto it = j.find(key);
+  return it != j.end() && it->is_boolean() && it->get<bool>();
+}
+
+}  // namespace
+
+Baresip::Baresip(PhoneSettings settings, std::filesystem::path config_dir, EventHandler on_event)
+    : settings_(std::move(settings)), config_dir_(std::move(config_dir)),
+      on_event_(std::move(on_event)) {}
+
+Baresip::~Baresip() { stop(); }
+
+void Baresip::start() {
+  sip_port_ = settings_.sip_port != 0 ? settings_.sip_port : pick_free_port(true);
+  ctrl_port_ = pick_free_port();
+  write_baresip_config(settings_, sip_port_, ctrl_port_, config_dir_);
+  if (::pipe2(wake_pipe_, O_CLOEXEC | O_NONBLOCK) != 0) {
+    throw std::runtime_error("phone: cannot create a pipe: " + std::string(std::strerror(errno)));
+  }
+  {
+    std::lock_guard lock(mutex_);
+    spawn();
+  }
+  thread_ = std::thread([this] { run(); });
+}
+
+void Baresip::spawn() {
+  int out[2];
+  if (::pipe2(out, O_CLOEXEC) != 0) {
+    throw std::runtime_error("phone: cannot create a pipe: " + std::string(std::strerror(errno)));
+  }
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, out[1], STDERR_FILENO);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  std::filesystem::path work = settings_.record_dir.empty() ? config_dir_ : settings_.record_dir;
+  std::filesystem::create_directories(work);
+  posix_spawn_file_actions_addchdir_np(&actions, work.c_str());
+  const std::string program = settings_.baresip_program.string();
+  const std::string dir = config_dir_.string();
+  std::vector<char*> argv{const_cast<char*>(program.c_str()), const_cast<char*>("-f"),
+                          const_cast<char*>(dir.c_str()), nullptr};
+  pid_t pid = -1;
+  const int error = ::posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(out[1]);
+  if (error != 0) {
+    ::close(out[0]);
+    throw std::runtime_error("phone: cannot start " + program + ": " + std::strerror(error));
+  }
+  pid_ = pid;
+  out_fd_ = out[0];
+  pidfd_ = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
+  ready_ = false;
+  child_was_ready_ = false;
+  started_at_ = std::chrono::steady_clock::now();
+  output_tail_.clear();
+  log_phone(LogLevel::kInfo, "baresip started (pid " + std::to_string(pid) + ", SIP port " +
+                                 std::to_string(sip_port_) + ")");
+}
+
+void Baresip::wake() {
+  if (wake_pipe_[1] >= 0) {
+    const char byte = 1;
+    [[maybe_unused]] auto written = ::write(wake_pipe_[1], &byte, 1);
+  }
+}
+
+void Baresip::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_) return;
+    stopping_ = true;
+  }
+  wake();
+  if (thread_.joinable()) thread_.join();
+  std::lock_guard lock(mutex_);
+  close_control();
+  if (pid_ > 0) {
+    ::kill(pid_, SIGTERM);
+    // baresip hangs up its calls on SIGTERM; give it a moment (waiting on the pidfd).
+    if (pidfd_ >= 0) {
+      pollfd p{pidfd_, POLLIN, 0};
+      if (::poll(&p, 1, 2000) <= 0) ::kill(pid_, SIGKILL);
+    }
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    pid_ = -1;
+  }
+  for (int* fd : {&pidfd_, &out_fd_, &wake_pipe_[0], &wake_pipe_[1]}) {
+    if (*fd >= 0) ::close(*fd);
+    *fd = -1;
+  }
+  for (auto& [token, result] : pending_) {
+    if (!result) result = CommandResult{false, "the phone is stopping"};
+  }
+  changed_.notify_all();
+}
+
+bool Baresip::wait_ready(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  return changed_.wait_for(lock, timeout, [&] { return ready_ || stopping_; }) && ready_;
+}
+
+pid_t Baresip::pid() const {
+  std::lock_guard lock(mutex_);
+  return pid_;
+}
+
+int Baresip::restarts() const {
+  std::lock_guard lock(mutex_);
+  return restarts_;
+}
+
+CommandResult Baresip::command(const std::string& name, const std::string& params,
+                               std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  std::unique_lock lock(mutex_);
+  if (!changed_.wait_until(lock, deadline, [&] { return ready_ || stopping_; }) || !ready_) {
+    return {false, "the phone service (baresip) is not running"};
+  }
+  const std::string token = "m" + std::to_string(next_token_++);
+  const std::string frame = encode_netstring(
+      nlohmann::json{{"command", name}, {"params", params}, {"token", token}}.dump());
+  pending_[token];
+  std::size_t sent = 0;
+  while (sent < frame.size()) {
+    const ssize_t n = ::send(control_fd_, frame.data() + sent, frame.size() - sent, MSG_NOSIGNAL);
+    if (n <= 0) {
+      pending_.erase(token);
+      return {false, "cannot write to baresip's control socket: " +
+                         std::string(std::strerror(errno))};
+    }
+    sent += static_cast<std::size_t>(n);
+  }
+  changed_.wait_until(lock, deadline, [&] { return pending_[token].has_value(); });
+  auto result = pending_[token];
+  pending_.erase(token);
+  if (!result) return {false, "baresip did not answer the command '" + name + "'"};
+  return *result;
+}
+
+void Baresip::connect_control() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(ctrl_port_));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (fd < 0 || ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+    log_phone(LogLevel::kError, "cannot connect to baresip's control port " +
+                                    std::to_string(ctrl_port_) + ": " + std::strerror(errno));
+    if (fd >= 0) ::close(fd);
+    return;
+  }
+  control_fd_ = fd;
+  reader_ = NetstringReader();
+  // Ready only once baresip answers on this connection: ctrl_tcp sends events to the
+  // connection it has accepted, and a connection still in the kernel's backlog misses
+  // them (seen: an incoming call's event lost right after start).
+  const std::string probe = encode_netstring(
+      nlohmann::json{{"command", "reginfo"}, {"params", ""}, {"token", kProbeToken}}.dump());
+  if (::send(fd, probe.data(), probe.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(probe.size())) {
+    log_phone(LogLevel::kError, "cannot write to baresip's control port");
+  }
+}
+
+void Baresip::close_control() {
+  if (control_fd_ >= 0) ::close(control_fd_);
+  control_fd_ = -1;
+  ready_ = false;
+  for (auto& [token, result] : pending_) {
+    if (!result) result = CommandResult{false, "baresip stopped before it answered"};
+  }
+  changed_.notify_all();
+}
+
+void Baresip::on_child_exit() {
+  int status = 0;
+  ::waitpid(pid_, &status, 0);
+  const bool was_ready = child_was_ready_;
+  close_control();
+  ::close(pidfd_);
+  pidfd_ = -1;
+  if (out_fd_ >= 0) ::close(out_fd_);
+  out_fd_ = -1;
+  const std::string how = WIFSIGNALED(status) ? "killed by signal " + std::to_string(WTERMSIG(status))
+                                              : "exited with status " + std::to_string(WEXITSTATUS(status));
+  log_phone(LogLevel::kWarning, "baresip (pid " + std::to_string(pid_) + ") " + how +
+                                    (was_ready ? "; restarting" : "; output: " + output_tail_));
+  pid_ = -1;
+  const bool quick_death = !was_ready;
+  restart_at_ = std::chrono::steady_clock::now() +
+                (quick_death ? std::chrono::milliseconds(1000) : std::chrono::milliseconds(0));
+}
+
+void Baresip::run() {
+  std::vector<BaresipEvent> events;
+  for (;;) {
+    std::vector<pollfd> fds;
+    int timeout_ms = -1;
+    {
+      std::lock_guard lock(mutex_);
+      if (stopping_) return;
+      if (pid_ < 0 && restart_at_) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now >= *restart_at_) {
+          restart_at_.reset();
+          try {
+            spawn();
+            ++restarts_;
+          } catch (const std::exception& e) {
+            log_phone(LogLevel::kError, e.what());
+            restart_at_ = now + std::chrono::seconds(1);
+          }
+        }
+        if (restart_at_) {
+          timeout_ms = static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(
+                                            *restart_at_ - now).count()) + 1;
+        }
+      }
+      fds.push_back({wake_pipe_[0], POLLIN, 0});
+      fds.push_back({out_fd_, POLLIN, 0});
+      fds.push_back({pidfd_, POLLIN, 0});
+      fds.push_back({control_fd_, POLLIN, 0});
+    }
+    if (::poll(fds.data(), fds.size(), timeout_ms) < 0 && errno != EINTR) return;
+    char buffer[8192];
+    if (fds[0].revents) {
+      while (::read(wake_pipe_[0], buffer, sizeof buffer) > 0) {
+      }
+    }
+    std::unique_lock lock(mutex_);
+    if (stopping_) return;
+    if (fds[1].fd >= 0 && fds[1].revents) {
+      const ssize_t n = ::read(out_fd_, buffer, sizeof buffer);
+      if (n > 0) {
+        output_tail_.append(buffer, static_cast<std::size_t>(n));
+        if (!ready_ && control_fd_ < 0 && output_tail_.find(kReadyBanner) != std::string::npos) {
+          connect_control();
+          output_tail_.clear();
+        }
+        if (output_tail_.size() > kTailBytes) output_tail_.erase(0, output_tail_.size() - kTailBytes);
+      } else {
+        ::close(out_fd_);
+        out_fd_ = -1;
+      }
+    }
+    std::string control_bytes;
+    if (fds[3].fd >= 0 && fds[3].fd == control_fd_ && fds[3].revents) {
+      const ssize_t n = ::recv(control_fd_, buffer, sizeof buffer, 0);
+      if (n > 0) {
+        control_bytes.assign(buffer, static_cast<std::size_t>(n));
+      } else {
+        close_control();
+      }
+    }
+    std::string exited;
+    if (fds[2].fd >= 0 && fds[2].fd == pidfd_ && fds[2].revents) {
+      on_child_exit();
+      exited = "baresip died";
+    }
+    lock.unlock();
+    if (!control_bytes.empty()) process_control_bytes(control_bytes);
+    if (!exited.empty() && on_event_) on_event_({"MARVIN_EXITED", "marvin", "", "", "", exited});
+  }
+}
+
+void Baresip::process_control_bytes(std::string_view bytes) {
+  reader_.feed(bytes);
+  while (auto frame = reader_.next()) {
+    if (!frame->error.empty()) {
+      log_phone(LogLevel::kWarning, frame->error + " (ignored)");
+      continue;
+    }
+    handle_frame(frame->payload);
+  }
+}
+
+void Baresip::handle_frame(const std::string& payload) {
+  nlohmann::json j = nlohmann::json::parse(payload, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) {
+    log_phone(LogLevel::kWarning, "control socket: not a JSON object (ignored): " +
+                                      payload.substr(0, 200));
+    return;
+  }
+  if (json_true(j, "response")) {
+    const std::string token = json_string(j, "token");
+    std::unique_lock lock(mutex_);
+    if (token == kProbeToken) {
+      if (!ready_ && control_fd_ >= 0) {
+        ready_ = true;
+        child_was_ready_ = true;
+        changed_.notify_all();
+        lock.unlock();
+        if (on_event_) on_event_({"MARVIN_READY", "marvin", "", "", "", ""});
+      }
+      return;
+    }
+    auto it = pending_.find(token);
+    if (it == pending_.end()) return;  // an answer nobody waits for any more
+    it->second = CommandResult{json_true(j, "ok"), json_string(j, "data")};
+    changed_.notify_all();
+    return;
+  }
+  if (!json_true(j, "event")) {
+    log_phone(LogLevel::kWarning, "control socket: neither an event nor a response (ignored): " +
+                                      payload.substr(0, 200));
+    return;
+  }
+  BaresipEvent event{json_string(j, "type"),      json_string(j, "class"),
+                     json_string(j, "direction"), json_string(j, "peeruri"),
+                     json_string(j, "id"),        json_string(j, "param")};
+  if (event.type.empty()) {
+    log_phone(LogLevel::kWarning, "control socket: event without a type (ignored): " +
+                                      payload.substr(0, 200));
+    return;
+  }
+  log_phone(LogLevel::kDebug, "event " + payload.substr(0, 300));
+  if (on_event_) on_event_(event);
+}
+
+}  // namespace marvin::telephony
