@@ -511,9 +511,6 @@ marvin_status unavailable(SkillContext& c, const char* permission, const char* w
   return fail(c, MARVIN_ERR_UNAVAILABLE, std::string(what) + " is not available on this robot yet");
 }
 
-marvin_status api_vision_who_is_there(marvin_host* host, marvin_text_out*) {
-  return guarded(host, [&](SkillContext& c) { return unavailable(c, "vision", "vision"); });
-}
 marvin_status api_phone_call(marvin_host* host, const char*) {
   return guarded(host, [&](SkillContext& c) { return unavailable(c, "phone", "the phone"); });
 }
@@ -634,6 +631,21 @@ marvin_status api_vision_forget_face(marvin_host* host, const char* name) {
                                                  " is known by face");
       }
       return MARVIN_OK;
+    });
+  });
+}
+
+// The 1.0 placeholder, served since 1.2: the faces in view as [{"name", "box"}].
+marvin_status api_vision_who_is_there(marvin_host* host, marvin_text_out* people_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_out(c, people_json));
+    const char* permission = c.has_permission("vision") ? "vision" : "camera";
+    return with_eyes(c, permission, [&](Eyes& eyes) {
+      json people = json::array();
+      for (const json& f : json::parse(eyes.look_json()).value("faces", json::array())) {
+        people.push_back({{"name", f.value("name", "")}, {"box", f.value("box", json::array())}});
+      }
+      return write_text(people_json, people.dump());
     });
   });
 }

@@ -86,3 +86,20 @@ TEST_CASE("a camera that fails is reported and nothing is enrolled") {
   CHECK(error_of([&] { robot.vision_look(); }).status() == MARVIN_ERR_UNAVAILABLE);
   CHECK(mock.enrolled_faces().empty());
 }
+
+TEST_CASE("the 1.0 calls vision_who_is_there and vision_find_object answer from the camera") {
+  marvin::testing::MockRobot mock("old", {"vision"});
+  mock.set_camera_view(
+      R"({"faces":[{"name":"Anna","box":[1,2,3,4]}],"objects":[{"label":"keys","box":[5,6,7,8]}]})");
+  char buffer[256];
+  marvin_text_out out{buffer, sizeof buffer, 0};
+  REQUIRE(mock.api()->vision_who_is_there(mock.host(), &out) == MARVIN_OK);
+  CHECK(nlohmann::json::parse(std::string(buffer, out.length)) ==
+        nlohmann::json::parse(R"([{"name":"Anna","box":[1,2,3,4]}])"));
+  REQUIRE(mock.api()->vision_find_object(mock.host(), "keys", &out) == MARVIN_OK);
+  CHECK(nlohmann::json::parse(std::string(buffer, out.length))["found"] == true);
+  CHECK(mock.api()->vision_find_object(mock.host(), "glasses", &out) == MARVIN_ERR_NOT_FOUND);
+  marvin::testing::MockRobot plain("plain", {});
+  plain.set_camera_view("{}");
+  CHECK(plain.api()->vision_who_is_there(plain.host(), &out) == MARVIN_ERR_PERMISSION);
+}

@@ -232,6 +232,7 @@ TEST_CASE("later capabilities answer unavailable (permission first)") {
   CHECK(api().vision_find_object(granted.host(), "keys", &out) == MARVIN_ERR_UNAVAILABLE);
   CHECK(std::string(api().last_error(granted.host())) == "this robot has no camera");
   CHECK(api().vision_who_is_there(granted.host(), &out) == MARVIN_ERR_UNAVAILABLE);
+  CHECK(std::string(api().last_error(granted.host())) == "this robot has no camera");
   CHECK(api().phone_call(granted.host(), "+49") == MARVIN_ERR_UNAVAILABLE);
   CHECK(api().smarthome_set(granted.host(), "lamp", "on") == MARVIN_ERR_UNAVAILABLE);
   CHECK(api().phone_call(plain.host(), "+49") == MARVIN_ERR_PERMISSION);

@@ -137,6 +137,8 @@ typedef struct marvin_robot_api {
    * MARVIN_ERR_NOT_FOUND if nothing of that name was taught. */
   marvin_status (*vision_find_object)(marvin_host* host, const char* object_name,
                                       marvin_text_out* result_json);
+  /* Since API 1.2 (permission "camera" or "vision"): the faces in view,
+   * [{"name": "Anna" | "", "box": [x, y, w, h]}] (vision_look says more). */
   marvin_status (*vision_who_is_there)(marvin_host* host, marvin_text_out* people_json);
   marvin_status (*phone_call)(marvin_host* host, const char* phone_number);
   /* Smart home (real since API 1.2; MARVIN_ERR_UNAVAILABLE on older hosts): sets device
