@@ -42,6 +42,9 @@ MqttClient::MqttClient(boost::asio::io_context& io, MqttOptions options,
                         this);
   if (!mosq_) throw std::runtime_error("mqtt: cannot create a libmosquitto client");
   mosquitto_int_option(mosq_, MOSQ_OPT_PROTOCOL_VERSION, MQTT_PROTOCOL_V311);
+  // Small messages out at once: with Nagle's algorithm a command waits for the ACK of the
+  // previous packet (40 ms of delayed ACK on Linux).
+  mosquitto_int_option(mosq_, MOSQ_OPT_TCP_NODELAY, 1);
   mosquitto_connect_callback_set(mosq_, &MqttClient::on_connect_cb);
   mosquitto_disconnect_callback_set(mosq_, &MqttClient::on_disconnect_cb);
   mosquitto_message_callback_set(mosq_, &MqttClient::on_message_cb);

@@ -132,3 +132,25 @@ TEST_CASE("resolve: rooms, kinds, plurals") {
 }
 
 }  // namespace
+
+TEST_CASE("smarthome_set: a malformed state is refused with the field named, nothing sent") {
+  marvin::testing::MockRobot robot("lights", {"smarthome"});
+  robot.add_device(R"({"id": "k", "name": "kitchen light", "dimmable": true})");
+  const marvin_robot_api* api = robot.api();
+  CHECK(api->smarthome_set(robot.host(), "k", R"({"on": 3})") == MARVIN_ERR_INVALID);
+  CHECK(std::string(api->last_error(robot.host())) ==
+        R"(state.on: expected "on": true|false or "brightness": 0..100, got 3)");
+  CHECK(api->smarthome_set(robot.host(), "k", R"({"brightness": 101})") == MARVIN_ERR_INVALID);
+  CHECK(api->smarthome_set(robot.host(), "k", "{oops") == MARVIN_ERR_INVALID);
+  CHECK(std::string(api->last_error(robot.host())) == "state is not valid JSON at byte 2");
+  CHECK(api->smarthome_set(robot.host(), "nothing", "on") == MARVIN_ERR_NOT_FOUND);
+  CHECK(robot.actions().empty());
+  CHECK(json::parse(*robot.device("k"))["on"] == false);
+  CHECK(api->smarthome_set(robot.host(), "k", "on") == MARVIN_OK);
+  CHECK(json::parse(*robot.device("k"))["on"] == true);
+  // Without the permission: refused before anything happens.
+  marvin::testing::MockRobot plain("plain", {});
+  plain.add_device(R"({"id": "k", "name": "kitchen light"})");
+  CHECK(plain.api()->smarthome_set(plain.host(), "k", "on") == MARVIN_ERR_PERMISSION);
+  CHECK(json::parse(*plain.device("k"))["on"] == false);
+}

@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include "home_fixture.h"
@@ -13,8 +14,10 @@ namespace marvin::home::testing {
 namespace {
 
 ChildProcess run_marvin(std::vector<std::string> extra) {
-  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--no-builtin-skills",
+  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--no-builtin-skills",
                                 "--skills-dir", MARVIN_HOME_SKILL_DIR};
+  if (std::find(extra.begin(), extra.end(), "--data-dir") == extra.end())
+    argv.push_back("--in-memory");
   argv.insert(argv.end(), extra.begin(), extra.end());
   test_support::ChildOptions o;
   o.err = test_support::ChildStream::kNull;
@@ -88,6 +91,38 @@ TEST_CASE("marvin run --sim without a broker: says the hub is unreachable, keeps
   marvin.send_line("turn on the kitchen light");
   marvin.wait_for_line("Marvin: I can't reach the home's hub right now. I'll keep trying.");
   CHECK(test_support::exit_code(marvin.finish()) == 0);
+}
+
+TEST_CASE("marvin devices list shows discovered devices with rooms, state and aliases") {
+  MosquittoBroker broker;
+  ChildProcess sim = start_sim(broker);
+  test_support::TempDir data;
+  ChildProcess add({MARVIN_EXE, "devices", "alias", "add", "The Big Lamp", "living room lamp",
+                    "--data-dir", data.path().string()});
+  CHECK(test_support::exit_code(add.finish()) == 0);
+  CHECK(add.output() == "\"the big lamp\" now means living room lamp\n");
+  ChildProcess bad({MARVIN_EXE, "devices", "alias", "add", "", "tv", "--data-dir",
+                    data.path().string()});
+  CHECK(test_support::exit_code(bad.finish()) == 2);
+  CHECK(bad.errors() == "marvin: alias: a device alias must not be empty\n");
+
+  ChildProcess list({MARVIN_EXE, "devices", "list", "--mqtt", broker.address(), "--data-dir",
+                     data.path().string()});
+  CHECK(test_support::exit_code(list.finish()) == 0);
+  const std::vector<std::string> lines = list.output_lines();
+  CHECK(lines.size() == 7);
+  CHECK(std::find(lines.begin(), lines.end(),
+                  "living room lamp (light, dimmable) in living room: off "
+                  "[z2m:living room/living room lamp] aliases: \"the big lamp\"") != lines.end());
+  CHECK(std::find(lines.begin(), lines.end(),
+                  "bedroom fan (fan) in bedroom: off [z2m:bedroom/bedroom fan]") != lines.end());
+
+  // The alias works by voice too.
+  ChildProcess marvin = run_marvin({"--mqtt", broker.address(), "--data-dir",
+                                    data.path().string()});
+  marvin.send_line("turn on the big lamp");
+  marvin.wait_for_line("Marvin: The living room lamp is on.");
+  sim.wait_for_line("living room lamp: ON 254");
 }
 
 TEST_CASE("a password file other users can read is refused before anything starts") {

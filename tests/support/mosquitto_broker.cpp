@@ -41,6 +41,7 @@ MosquittoBroker::MosquittoBroker() {
              "listener " + std::to_string(port_) + " 127.0.0.1\n"
              "allow_anonymous true\n"
              "persistence false\n"
+             "set_tcp_nodelay true\n"
              "log_dest stderr\n"
              "log_type error\nlog_type warning\nlog_type notice\nlog_type information\n");
   start();
