@@ -1,6 +1,7 @@
 // The home skill with the MockRobot's scripted devices: what it says and what it sends.
 #include <doctest/doctest.h>
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include <marvin/testing/mock_robot.hpp>
@@ -153,4 +154,23 @@ TEST_CASE("smarthome_set: a malformed state is refused with the field named, not
   plain.add_device(R"({"id": "k", "name": "kitchen light"})");
   CHECK(plain.api()->smarthome_set(plain.host(), "k", "on") == MARVIN_ERR_PERMISSION);
   CHECK(json::parse(*plain.device("k"))["on"] == false);
+}
+
+TEST_CASE("today's templates already take most of the examples to their own intent") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  std::ifstream in(std::string(HOME_SKILL_DIR) + "/skill.json");
+  json manifest = json::parse(in);
+  int total = 0, right = 0;
+  for (const json& intent : manifest["intents"]) {
+    REQUIRE(intent["examples"].size() >= 30);
+    for (const json& example : intent["examples"]) {
+      ++total;
+      if (h.intent_of(example.get<std::string>()) == "home/" + intent["name"].get<std::string>())
+        ++right;
+      else
+        MESSAGE("not " << intent["name"] << ": " << example);
+    }
+  }
+  MESSAGE(right << " of " << total << " examples reach their intent");
+  CHECK(right * 100 >= total * 85);
 }
