@@ -263,11 +263,6 @@ void MqttClient::on_connect_cb(mosquitto*, void* self, int rc) {
   }
   c->session_up_ = true;
   c->backoff_ = kFirstBackoff;
-  if (!c->options_.birth_topic.empty()) {
-    mosquitto_publish(c->mosq_, nullptr, c->options_.birth_topic.c_str(),
-                      static_cast<int>(c->options_.birth_payload.size()),
-                      c->options_.birth_payload.data(), 1, true);
-  }
   c->pending_subacks_.clear();
   for (const std::string& topic : c->subscriptions_) {
     int mid = 0;
@@ -289,6 +284,12 @@ void MqttClient::on_subscribe_cb(mosquitto*, void* self, int mid, int, const int
 
 void MqttClient::ready() {
   MqttClient* c = this;
+  // The birth message says "ready": connected and subscribed, so commands work from now on.
+  if (!c->options_.birth_topic.empty()) {
+    mosquitto_publish(c->mosq_, nullptr, c->options_.birth_topic.c_str(),
+                      static_cast<int>(c->options_.birth_payload.size()),
+                      c->options_.birth_payload.data(), 1, true);
+  }
   c->connected_.store(true);
   c->connections_.fetch_add(1);
   log(LogLevel::kInfo, "mqtt",

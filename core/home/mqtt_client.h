@@ -40,7 +40,7 @@ struct MqttOptions {
   // The last will, published by the broker when this client vanishes (retained).
   std::string will_topic;
   std::string will_payload;
-  // Sent first on every connection (retained), e.g. "online" on the will's topic.
+  // Sent on every connection once subscribed (retained), e.g. "online" on the will's topic.
   std::string birth_topic;
   std::string birth_payload;
 };

@@ -73,6 +73,17 @@ class Peer {
     return client_->publish(t, p, 1, retain);
   }
   MqttClient& client() { return *client_; }
+  // Waits until `n` messages on `topic` with payloads containing `part` have arrived.
+  bool wait_messages(const std::string& topic, const std::string& part, std::size_t n) {
+    std::unique_lock lock(mutex_);
+    return changed_.wait_for(lock, kWait, [&] {
+      std::size_t seen = 0;
+      for (const auto& [t, p] : received_) {
+        if (t == topic && p.find(part) != std::string::npos) ++seen;
+      }
+      return seen >= n;
+    });
+  }
   // Waits for a message on `topic` whose payload contains `part`; its payload.
   std::optional<std::string> wait_message(const std::string& topic, const std::string& part = "") {
     std::unique_lock lock(mutex_);

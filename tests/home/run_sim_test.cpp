@@ -79,6 +79,45 @@ TEST_CASE("marvin run --sim: the ambiguity question, and the room from the confi
   CHECK(peer.wait_message("marvin/e2e/availability", "offline"));
 }
 
+TEST_CASE("marvin run --sim: a device that never answers; the broker going away and back") {
+  MosquittoBroker broker;
+  ChildProcess sim = start_sim(broker, {"--mute", "bedroom fan"});
+  test_support::TempDir dir;
+  test_support::write_text(dir / "home.json",
+                           R"({"broker": {"host": "127.0.0.1", "port": )" +
+                               std::to_string(broker.port()) + R"(}, "answer_timeout_ms": 300})");
+  Peer peer(broker);
+  peer.subscribe("marvin/home/availability");
+  REQUIRE(peer.wait_connected());
+  ChildProcess marvin = run_marvin({"--home-config", (dir / "home.json").string()});
+  REQUIRE(peer.wait_messages("marvin/home/availability", "online", 1));
+  marvin.send_line("switch on the fan");
+  marvin.wait_for_line("Marvin: The bedroom fan didn't answer.");
+
+  broker.kill();
+  sim.wait_for_line_containing("broker lost");
+  marvin.send_line("turn on the kitchen light");
+  marvin.wait_for_line(
+      "Marvin: I can't reach the home's hub right now, so the kitchen light is unchanged. "
+      "I'll keep trying to reconnect.");
+  broker.restart();
+  sim.wait_for_line("ready again");
+  // Marvin reconnects in the background (its birth message says when); the same request
+  // works again.
+  REQUIRE(peer.wait_messages("marvin/home/availability", "online", 2));
+  marvin.send_line("turn on the kitchen light");
+  marvin.wait_for_line("Marvin: The kitchen light is on.");
+  sim.wait_for_line("kitchen light: ON 254");
+  CHECK(test_support::exit_code(marvin.finish()) == 0);
+  // The light was switched on once: the request made while the broker was away was not
+  // carried out later.
+  int actions = 0;
+  for (const std::string& line : sim.output_lines()) {
+    if (line.rfind("kitchen light:", 0) == 0) ++actions;
+  }
+  CHECK(actions == 1);
+}
+
 TEST_CASE("marvin run --sim without a broker: says the hub is unreachable, keeps running") {
   const int port = test_support::free_tcp_port();  // nobody listens there
   std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--no-builtin-skills",
