@@ -10,10 +10,9 @@
 //   2. reconnect after a broker restart: from the broker listening again to the client
 //      connected and subscribed, and to the first confirmed command. Goal: within 5 s.
 // Prints figures; never fails on time.
+#include <algorithm>
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
-
-#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -143,8 +142,8 @@ int main(int argc, char** argv) {
     plain_ms.push_back(p);
     reply_ms.push_back(q);
     // The simulator's stdout pipe must not fill up.
-    if (i % 50 == 0) sim.read_until([](const std::string&) { return false; },
-                                    std::chrono::milliseconds(0));
+    if (i % 50 == 0)
+      sim.read_until([](const std::string&) { return false; }, std::chrono::milliseconds(0));
   }
   const double c50 = percentile(command_ms, 0.50), c99 = percentile(command_ms, 0.99);
   const double p50 = percentile(plain_ms, 0.50), p99 = percentile(plain_ms, 0.99);
@@ -152,10 +151,12 @@ int main(int argc, char** argv) {
               failed);
   std::printf("  command -> reported state: p50 %.3f ms  p99 %.3f ms\n", c50, c99);
   const double r50 = percentile(reply_ms, 0.50), r99 = percentile(reply_ms, 0.99);
-  std::printf("  plain publish/subscribe round trip (own message back):  p50 %.3f ms  p99 %.3f ms\n",
-              p50, p99);
-  std::printf("  plain request/reply via a second client (two trips):    p50 %.3f ms  p99 %.3f ms\n",
-              r50, r99);
+  std::printf(
+      "  plain publish/subscribe round trip (own message back):  p50 %.3f ms  p99 %.3f ms\n", p50,
+      p99);
+  std::printf(
+      "  plain request/reply via a second client (two trips):    p50 %.3f ms  p99 %.3f ms\n", r50,
+      r99);
   std::printf("  ratio to the pub/sub round trip (goal <= 2x):  p50 %.2fx  p99 %.2fx\n", c50 / p50,
               c99 / p99);
   std::printf("  ratio to request/reply (same number of trips): p50 %.2fx  p99 %.2fx\n", c50 / r50,
@@ -172,7 +173,7 @@ int main(int argc, char** argv) {
     connected_ms.push_back(ms_since(t0));
     // The simulator reconnects too; the first command that is confirmed again.
     while (home.set(kitchen, DeviceCommand{i % 2 == 0, {}, {}}, std::chrono::milliseconds(200))
-               .outcome != HomeService::Outcome::kConfirmed &&
+                   .outcome != HomeService::Outcome::kConfirmed &&
            ms_since(t0) < 30000) {
     }
     working_ms.push_back(ms_since(t0));
@@ -182,8 +183,7 @@ int main(int argc, char** argv) {
               *std::max_element(connected_ms.begin(), connected_ms.end()),
               percentile(connected_ms, 0.5));
   std::printf("  first confirmed command:  max %.0f ms  median %.0f ms\n",
-              *std::max_element(working_ms.begin(), working_ms.end()),
-              percentile(working_ms, 0.5));
+              *std::max_element(working_ms.begin(), working_ms.end()), percentile(working_ms, 0.5));
   home.stop();
   return 0;
 }

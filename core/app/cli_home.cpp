@@ -41,9 +41,11 @@ home::HomeConfig config_of(const DevicesOptions& o) {
         o.home_config.empty() ? home::default_home_config_path()
                               : std::optional<std::filesystem::path>(o.home_config);
     if (!path || !std::filesystem::exists(*path)) {
-      throw CliError("no smart home configured: pass --mqtt HOST:PORT or --home-config FILE "
-                     "(or create " + (path ? path->string() : std::string("~/.config/marvin/home.json")) + ")",
-                     2);
+      throw CliError(
+          "no smart home configured: pass --mqtt HOST:PORT or --home-config FILE "
+          "(or create " +
+              (path ? path->string() : std::string("~/.config/marvin/home.json")) + ")",
+          2);
     }
     return home::load_home_config(*path);
   } catch (const home::ConfigError& e) {
@@ -68,23 +70,24 @@ void list_devices(const DevicesOptions& o) {
   service.start();
   if (!service.settle(std::chrono::milliseconds(o.wait_ms))) {
     throw CliError("cannot reach the broker " + config.broker.host + ":" +
-                       std::to_string(config.broker.port) + " within " +
-                       std::to_string(o.wait_ms) + " ms",
+                       std::to_string(config.broker.port) + " within " + std::to_string(o.wait_ms) +
+                       " ms",
                    1);
   }
   std::vector<home::Device> devices = service.devices();
-  if (devices.empty()) write_line("no devices announced on " + config.broker.host + ":" +
-                                  std::to_string(config.broker.port));
+  if (devices.empty())
+    write_line("no devices announced on " + config.broker.host + ":" +
+               std::to_string(config.broker.port));
   for (const home::Device& d : devices) {
     std::string state = !d.state.available ? "offline"
-                        : !d.state.on     ? "state unknown"
-                        : *d.state.on     ? "on"
-                                          : "off";
+                        : !d.state.on      ? "state unknown"
+                        : *d.state.on      ? "on"
+                                           : "off";
     if (d.state.on == true && d.dimmable && d.state.brightness_pct)
       state += " " + std::to_string(*d.state.brightness_pct) + "%";
     std::string line = d.name + " (" + home::type_name(d.type) + (d.dimmable ? ", dimmable" : "") +
-                       ") in " + (d.room.empty() ? std::string("no room") : d.room) + ": " +
-                       state + " [" + d.id + "]";
+                       ") in " + (d.room.empty() ? std::string("no room") : d.room) + ": " + state +
+                       " [" + d.id + "]";
     if (!d.aliases.empty()) {
       line += " aliases:";
       for (const std::string& a : d.aliases) line += " \"" + a + "\"";
@@ -107,8 +110,8 @@ void install_devices_commands(CLI::App& root) {
   list->add_option("--mqtt", o->mqtt, "The broker HOST:PORT (no authentication)");
   list->add_option("--home-config", o->home_config,
                    "The smart-home config file (default: ~/.config/marvin/home.json)");
-  list->add_option("--wait-ms", o->wait_ms, "How long to wait for the broker")->check(
-      CLI::Range(100, 60000));
+  list->add_option("--wait-ms", o->wait_ms, "How long to wait for the broker")
+      ->check(CLI::Range(100, 60000));
   list->add_option("--data-dir", o->data_dir, "Personal data directory (aliases)");
   list->callback([o] { list_devices(*o); });
 

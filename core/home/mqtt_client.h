@@ -10,11 +10,10 @@
 // user has been told it failed.
 #pragma once
 
+#include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/posix/stream_descriptor.hpp>
 #include <boost/asio/steady_timer.hpp>
-
-#include <atomic>
 #include <chrono>
 #include <functional>
 #include <optional>
@@ -99,7 +98,7 @@ class MqttClient {
   bool reading_ = false;
   bool writing_ = false;
   bool stopped_ = false;
-  bool session_up_ = false;  // io thread: CONNACK seen on this socket
+  bool session_up_ = false;           // io thread: CONNACK seen on this socket
   std::vector<int> pending_subacks_;  // io thread: SUBSCRIBE ids of this connection
   std::chrono::milliseconds backoff_{100};
   boost::asio::steady_timer retry_timer_;

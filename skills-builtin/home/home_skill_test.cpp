@@ -2,10 +2,9 @@
 #include <doctest/doctest.h>
 
 #include <fstream>
-#include <nlohmann/json.hpp>
-
 #include <marvin/testing/mock_robot.hpp>
 #include <marvin/testing/skill_harness.hpp>
+#include <nlohmann/json.hpp>
 
 #include "resolve.h"
 
@@ -17,9 +16,11 @@ namespace {
 void world(marvin::testing::SkillHarness& h) {
   auto& r = h.robot();
   r.add_device(R"({"id": "hall", "name": "hall light", "room": "hall"})");
-  r.add_device(R"({"id": "lamp", "name": "living room lamp", "room": "living room", "dimmable": true,
+  r.add_device(
+      R"({"id": "lamp", "name": "living room lamp", "room": "living room", "dimmable": true,
                    "aliases": ["big lamp"]})");
-  r.add_device(R"({"id": "kitchen", "name": "kitchen light", "room": "kitchen", "dimmable": true})");
+  r.add_device(
+      R"({"id": "kitchen", "name": "kitchen light", "room": "kitchen", "dimmable": true})");
   r.add_device(R"({"id": "bed", "name": "bedroom light", "room": "bedroom", "dimmable": true})");
   r.add_device(R"({"id": "fan", "name": "bedroom fan", "room": "bedroom", "type": "fan"})");
   r.add_device(R"({"id": "bath", "name": "bathroom light", "room": "bathroom"})");
@@ -75,8 +76,7 @@ TEST_CASE("turn everything off in the bedroom") {
   h.robot().clear();
   CHECK(h.intent_of("turn everything off in the bedroom") == "home/all_off");
   CHECK(h.say("turn everything off in the bedroom") == Lines{"Everything in the bedroom is off."});
-  CHECK(sent(h) ==
-        Lines{R"(smarthome_set bed {"on":false})", R"(smarthome_set fan {"on":false})"});
+  CHECK(sent(h) == Lines{R"(smarthome_set bed {"on":false})", R"(smarthome_set fan {"on":false})"});
   CHECK(state(h, "fan")["on"] == false);
 }
 

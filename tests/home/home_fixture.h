@@ -5,9 +5,8 @@
 
 #include <doctest/doctest.h>
 
-#include <boost/asio/io_context.hpp>
 #include <boost/asio/executor_work_guard.hpp>
-
+#include <boost/asio/io_context.hpp>
 #include <condition_variable>
 #include <map>
 #include <mutex>
@@ -115,15 +114,15 @@ class Peer {
 class LogCapture {
  public:
   LogCapture() {
-    previous_ = set_log_sink([this](LogLevel level, std::string_view component,
-                                    std::string_view message) {
-      if (level < LogLevel::kWarning) return;
-      {
-        std::lock_guard lock(mutex_);
-        lines_.push_back(std::string(component) + ": " + std::string(message));
-      }
-      changed_.notify_all();
-    });
+    previous_ =
+        set_log_sink([this](LogLevel level, std::string_view component, std::string_view message) {
+          if (level < LogLevel::kWarning) return;
+          {
+            std::lock_guard lock(mutex_);
+            lines_.push_back(std::string(component) + ": " + std::string(message));
+          }
+          changed_.notify_all();
+        });
   }
   ~LogCapture() { set_log_sink(previous_); }
   // Waits for a line containing every part.

@@ -1,6 +1,5 @@
 // The smart-home service against a real mosquitto and the real simulator process.
 #include <doctest/doctest.h>
-
 #include <unistd.h>
 
 #include <fstream>
@@ -13,8 +12,12 @@
 namespace marvin::home::testing {
 namespace {
 
-const std::vector<std::string> kWorldDevices = {"hall light",   "living room lamp", "kitchen light",
-                                                "bedroom light", "bedroom fan",     "bathroom light",
+const std::vector<std::string> kWorldDevices = {"hall light",
+                                                "living room lamp",
+                                                "kitchen light",
+                                                "bedroom light",
+                                                "bedroom fan",
+                                                "bathroom light",
                                                 "tv"};
 
 bool all_world_devices(const std::vector<Device>& devices) {
@@ -128,7 +131,8 @@ TEST_CASE("Home Assistant discovery: a JSON-schema light and a default-schema sw
       if (cmd.contains("brightness")) state["brightness"] = cmd["brightness"];
       device.publish("home/desk/state", state.dump(), true);
     }
-    if (t == "home/heater/cmd") device.publish("home/heater/stat", p == "turn_on" ? "is_on" : "is_off", true);
+    if (t == "home/heater/cmd")
+      device.publish("home/heater/stat", p == "turn_on" ? "is_on" : "is_off", true);
   });
   device.subscribe("home/desk/set");
   device.subscribe("home/heater/cmd");
@@ -147,7 +151,9 @@ TEST_CASE("Home Assistant discovery: a JSON-schema light and a default-schema sw
   home.start();
   REQUIRE(home.wait_connected(kWait));
   REQUIRE(home.wait_devices(
-      [](const std::vector<Device>& ds) { return has_device(ds, "desk lamp") && has_device(ds, "heater"); },
+      [](const std::vector<Device>& ds) {
+        return has_device(ds, "desk lamp") && has_device(ds, "heater");
+      },
       kWait));
   std::optional<Device> desk = home.device("ha:light/desk");
   REQUIRE(desk);

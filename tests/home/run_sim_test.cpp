@@ -14,8 +14,8 @@ namespace marvin::home::testing {
 namespace {
 
 ChildProcess run_marvin(std::vector<std::string> extra) {
-  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--no-builtin-skills",
-                                "--skills-dir", MARVIN_HOME_SKILL_DIR};
+  std::vector<std::string> argv{
+      MARVIN_EXE, "run", "--sim", "--no-builtin-skills", "--skills-dir", MARVIN_HOME_SKILL_DIR};
   if (std::find(extra.begin(), extra.end(), "--data-dir") == extra.end())
     argv.push_back("--in-memory");
   argv.insert(argv.end(), extra.begin(), extra.end());
@@ -83,9 +83,9 @@ TEST_CASE("marvin run --sim: a device that never answers; the broker going away 
   MosquittoBroker broker;
   ChildProcess sim = start_sim(broker, {"--mute", "bedroom fan"});
   test_support::TempDir dir;
-  test_support::write_text(dir / "home.json",
-                           R"({"broker": {"host": "127.0.0.1", "port": )" +
-                               std::to_string(broker.port()) + R"(}, "answer_timeout_ms": 300})");
+  test_support::write_text(dir / "home.json", R"({"broker": {"host": "127.0.0.1", "port": )" +
+                                                  std::to_string(broker.port()) +
+                                                  R"(}, "answer_timeout_ms": 300})");
   Peer peer(broker);
   peer.subscribe("marvin/home/availability");
   REQUIRE(peer.wait_connected());
@@ -120,8 +120,14 @@ TEST_CASE("marvin run --sim: a device that never answers; the broker going away 
 
 TEST_CASE("marvin run --sim without a broker: says the hub is unreachable, keeps running") {
   const int port = test_support::free_tcp_port();  // nobody listens there
-  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--no-builtin-skills",
-                                "--skills-dir", MARVIN_HOME_SKILL_DIR, "--mqtt",
+  std::vector<std::string> argv{MARVIN_EXE,
+                                "run",
+                                "--sim",
+                                "--in-memory",
+                                "--no-builtin-skills",
+                                "--skills-dir",
+                                MARVIN_HOME_SKILL_DIR,
+                                "--mqtt",
                                 "127.0.0.1:" + std::to_string(port)};
   test_support::ChildOptions o;
   o.err = test_support::ChildStream::kNull;
@@ -140,8 +146,8 @@ TEST_CASE("marvin devices list shows discovered devices with rooms, state and al
                     "--data-dir", data.path().string()});
   CHECK(test_support::exit_code(add.finish()) == 0);
   CHECK(add.output() == "\"the big lamp\" now means living room lamp\n");
-  ChildProcess bad({MARVIN_EXE, "devices", "alias", "add", "", "tv", "--data-dir",
-                    data.path().string()});
+  ChildProcess bad(
+      {MARVIN_EXE, "devices", "alias", "add", "", "tv", "--data-dir", data.path().string()});
   CHECK(test_support::exit_code(bad.finish()) == 2);
   CHECK(bad.errors() == "marvin: alias: a device alias must not be empty\n");
 
@@ -157,8 +163,8 @@ TEST_CASE("marvin devices list shows discovered devices with rooms, state and al
                   "bedroom fan (fan) in bedroom: off [z2m:bedroom/bedroom fan]") != lines.end());
 
   // The alias works by voice too.
-  ChildProcess marvin = run_marvin({"--mqtt", broker.address(), "--data-dir",
-                                    data.path().string()});
+  ChildProcess marvin =
+      run_marvin({"--mqtt", broker.address(), "--data-dir", data.path().string()});
   marvin.send_line("turn on the big lamp");
   marvin.wait_for_line("Marvin: The living room lamp is on.");
   sim.wait_for_line("living room lamp: ON 254");
@@ -170,8 +176,8 @@ TEST_CASE("a password file other users can read is refused before anything start
   ::chmod((dir / "pw").c_str(), 0644);
   test_support::write_text(dir / "home.json",
                            R"({"broker": {"user": "marvin", "password_file": "pw"}})");
-  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--home-config",
-                                (dir / "home.json").string()};
+  std::vector<std::string> argv{MARVIN_EXE,    "run",           "--sim",
+                                "--in-memory", "--home-config", (dir / "home.json").string()};
   ChildProcess marvin(argv);
   int status = marvin.finish();
   CHECK(test_support::exit_code(status) == 2);
