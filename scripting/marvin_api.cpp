@@ -429,6 +429,44 @@ int l_people(lua_State* L) {
   return 1;
 }
 
+// --- smart home (Robot API 1.2) ---------------------------------------------------------------------
+
+int l_home_devices(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "smarthome", "home.devices");
+  need(L, ctx, ctx->api->smarthome_devices != nullptr, "home.devices");
+  const marvin_status status = ctx->call_text(
+      [ctx](marvin_text_out* out) { return ctx->api->smarthome_devices(ctx->host, out); });
+  check(L, ctx, "home.devices", status);
+  push_json_text(L, ctx, "home.devices");
+  return 1;
+}
+
+// home.set(device, "on" | "off" | {on=, brightness=}) -> true once the device reported it,
+// or false and the reason when it could not be done (no broker, no answer, offline).
+int l_home_set(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* device = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "smarthome", "home.set");
+  need(L, ctx, ctx->api->smarthome_set != nullptr, "home.set");
+  std::string state;
+  if (lua_type(L, 2) == LUA_TSTRING) {
+    state = lua_tostring(L, 2);
+  } else {
+    table_to_json_text(L, ctx, 2, "home.set");
+    state = ctx->text;
+  }
+  const marvin_status status = ctx->api->smarthome_set(ctx->host, device, state.c_str());
+  if (status == MARVIN_ERR_UNAVAILABLE) {
+    lua_pushboolean(L, 0);
+    lua_pushstring(L, ctx->api->last_error(ctx->host));
+    return 2;
+  }
+  check(L, ctx, "home.set", status);
+  lua_pushboolean(L, 1);
+  return 1;
+}
+
 // --- storage ------------------------------------------------------------------------------------------
 
 int l_storage_get(lua_State* L) {
@@ -594,6 +632,12 @@ void install_marvin_api(lua_State* L, SkillContext* ctx) {
   set_functions(L, contacts);
   Sandbox::make_read_only(L, "marvin.contacts");
   lua_setfield(L, -2, "contacts");
+
+  lua_createtable(L, 0, 2);
+  static const luaL_Reg home[] = {{"devices", l_home_devices}, {"set", l_home_set}, {nullptr, nullptr}};
+  set_functions(L, home);
+  Sandbox::make_read_only(L, "marvin.home");
+  lua_setfield(L, -2, "home");
 
   lua_createtable(L, 0, 3);
   static const luaL_Reg storage[] = {{"get", l_storage_get},

@@ -25,8 +25,8 @@ T get(const json& object, const std::string& file, const std::string& path, cons
       json::value_t type, const char* expected, T fallback) {
   auto it = object.find(key);
   if (it == object.end() || it->is_null()) return fallback;
-  bool ok = it->type() == type ||
-            (type == json::value_t::number_integer && it->is_number_unsigned());
+  bool ok =
+      it->type() == type || (type == json::value_t::number_integer && it->is_number_unsigned());
   if (!ok) {
     throw ConfigError(file + ": " + path + "." + key + " must be " + expected + ", got " +
                       it->dump());
@@ -50,10 +50,10 @@ std::string read_password_file(const std::filesystem::path& path) {
                       std::to_string(::geteuid()) + ")");
   }
   if ((st.st_mode & 077) != 0) {
-    throw ConfigError("mqtt password file " + path.string() + " has mode " +
-                      octal(st.st_mode) +
+    throw ConfigError("mqtt password file " + path.string() + " has mode " + octal(st.st_mode) +
                       ": other users may read it; it must be readable by its owner only "
-                      "(chmod 600 " + path.string() + ")");
+                      "(chmod 600 " +
+                      path.string() + ")");
   }
   std::ifstream in(path);
   std::string password;
@@ -94,9 +94,10 @@ HomeConfig load_home_config(const std::filesystem::path& path) {
     std::string password_file =
         get<std::string>(b, file, "$.broker", "password_file", V::string, "a string", "");
     if (b.contains("password")) {
-      throw ConfigError(file + ": $.broker.password is not read from the config file; put the "
-                               "password in a file readable only by you and name it in "
-                               "$.broker.password_file");
+      throw ConfigError(file +
+                        ": $.broker.password is not read from the config file; put the "
+                        "password in a file readable only by you and name it in "
+                        "$.broker.password_file");
     }
     if (!password_file.empty()) {
       std::filesystem::path pf(password_file);
@@ -111,10 +112,10 @@ HomeConfig load_home_config(const std::filesystem::path& path) {
                       c.site + "\"");
   }
   c.room = get<std::string>(doc, file, "$", "room", V::string, "a string", c.room);
-  c.discovery_prefix = get<std::string>(doc, file, "$", "discovery_prefix", V::string,
-                                        "a string", c.discovery_prefix);
-  c.zigbee2mqtt_base = get<std::string>(doc, file, "$", "zigbee2mqtt_base", V::string,
-                                        "a string", c.zigbee2mqtt_base);
+  c.discovery_prefix = get<std::string>(doc, file, "$", "discovery_prefix", V::string, "a string",
+                                        c.discovery_prefix);
+  c.zigbee2mqtt_base = get<std::string>(doc, file, "$", "zigbee2mqtt_base", V::string, "a string",
+                                        c.zigbee2mqtt_base);
   c.commands = get<bool>(doc, file, "$", "commands", V::boolean, "true or false", c.commands);
   int timeout = get<int>(doc, file, "$", "answer_timeout_ms", V::number_integer, "an integer",
                          static_cast<int>(c.answer_timeout.count()));
@@ -144,7 +145,8 @@ MqttOptions broker_from_address(const std::string& address) {
     char* end = nullptr;
     long value = std::strtol(port.c_str(), &end, 10);
     if (port.empty() || *end != '\0' || value <= 0 || value > 65535) {
-      throw ConfigError("broker address \"" + address + "\": expected HOST:PORT with a port "
+      throw ConfigError("broker address \"" + address +
+                        "\": expected HOST:PORT with a port "
                         "1..65535");
     }
     o.port = static_cast<int>(value);

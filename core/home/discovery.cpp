@@ -1,10 +1,9 @@
 #include "home/discovery.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 namespace marvin::home {
 namespace {
@@ -42,9 +41,7 @@ std::string expand(const std::string& topic, const std::string& base) {
   return topic;
 }
 
-int clamp_pct(double value) {
-  return static_cast<int>(std::clamp(std::lround(value), 0L, 100L));
-}
+int clamp_pct(double value) { return static_cast<int>(std::clamp(std::lround(value), 0L, 100L)); }
 
 int to_pct(double raw, int max) { return clamp_pct(raw * 100.0 / std::max(1, max)); }
 int from_pct(int pct, int max) {
@@ -88,8 +85,8 @@ std::string lower(std::string_view text) {
   return tidy;
 }
 
-bool parse_ha_config_topic(std::string_view prefix, std::string_view topic,
-                           std::string* component, std::string* object_id) {
+bool parse_ha_config_topic(std::string_view prefix, std::string_view topic, std::string* component,
+                           std::string* object_id) {
   if (topic.size() <= prefix.size() + 1 || topic.substr(0, prefix.size()) != prefix ||
       topic[prefix.size()] != '/') {
     return false;

@@ -26,8 +26,8 @@ inline constexpr std::size_t kMaxPayloadBytes = 256 * 1024;
 // The component and object id of a discovery topic
 // homeassistant/<component>/[<node_id>/]<object_id>/config, for light, switch and fan;
 // false for other topics or components.
-bool parse_ha_config_topic(std::string_view prefix, std::string_view topic,
-                           std::string* component, std::string* object_id);
+bool parse_ha_config_topic(std::string_view prefix, std::string_view topic, std::string* component,
+                           std::string* object_id);
 // The device a Home Assistant discovery config describes. An empty payload (a removed
 // device) is not an error: it returns a device with an empty name.
 Device parse_ha_config(std::string_view component, std::string_view object_id,

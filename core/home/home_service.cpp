@@ -1,12 +1,11 @@
 #include "home/home_service.h"
 
-#include <nlohmann/json.hpp>
-
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <nlohmann/json.hpp>
 
 #include "common/log.h"
 #include "home/discovery.h"

@@ -19,7 +19,6 @@
 #pragma once
 
 #include <boost/asio/io_context.hpp>
-
 #include <chrono>
 #include <condition_variable>
 #include <functional>
@@ -99,7 +98,7 @@ class HomeService {
   void handle_message(const std::string& topic, std::string_view payload, bool retained);
   void handle_connection(bool up);
   void add_devices(std::vector<Device> found, const std::string& source_key);  // mutex_ held
-  void remove_devices_from(const std::string& source_key);                    // mutex_ held
+  void remove_devices_from(const std::string& source_key);                     // mutex_ held
   void publish_presence();
   std::string status_json() const;
 
@@ -110,8 +109,8 @@ class HomeService {
 
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
-  std::map<std::string, Device> devices_;             // by id
-  std::map<std::string, std::set<std::string>> sources_;  // discovery topic -> device ids
+  std::map<std::string, Device> devices_;                   // by id
+  std::map<std::string, std::set<std::string>> sources_;    // discovery topic -> device ids
   std::map<std::string, std::vector<std::string>> routes_;  // state topic -> device ids
   std::set<std::string> subscribed_;
   std::map<std::string, std::string> aliases_;

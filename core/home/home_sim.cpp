@@ -1,9 +1,8 @@
 #include "home/home_sim.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 
@@ -41,11 +40,11 @@ std::vector<SimDevice> load_world_devices(const std::filesystem::path& world) {
       *target = d[key].get<std::string>();
     }
     if (s.type != "light" && s.type != "switch" && s.type != "fan") {
-      throw std::runtime_error(path + ".type must be light, switch or fan, got \"" + s.type +
-                               "\"");
+      throw std::runtime_error(path + ".type must be light, switch or fan, got \"" + s.type + "\"");
     }
     if (d.contains("dimmable")) {
-      if (!d["dimmable"].is_boolean()) throw std::runtime_error(path + ".dimmable must be true or false");
+      if (!d["dimmable"].is_boolean())
+        throw std::runtime_error(path + ".dimmable must be true or false");
       s.dimmable = d["dimmable"].get<bool>();
     }
     out.push_back(std::move(s));
@@ -79,12 +78,16 @@ std::string HomeSimulator::devices_json() const {
                                   {"value_on", "ON"},
                                   {"value_off", "OFF"}}});
     if (d.dimmable) {
-      features.push_back(
-          {{"name", "brightness"}, {"property", "brightness"}, {"type", "numeric"},
-           {"value_min", 0}, {"value_max", 254}});
-      features.push_back(
-          {{"name", "color_temp"}, {"property", "color_temp"}, {"type", "numeric"},
-           {"value_min", 150}, {"value_max", 500}});
+      features.push_back({{"name", "brightness"},
+                          {"property", "brightness"},
+                          {"type", "numeric"},
+                          {"value_min", 0},
+                          {"value_max", 254}});
+      features.push_back({{"name", "color_temp"},
+                          {"property", "color_temp"},
+                          {"type", "numeric"},
+                          {"value_min", 150},
+                          {"value_max", 500}});
     }
     char ieee[32];
     std::snprintf(ieee, sizeof ieee, "0x00158d00%08x", n++);

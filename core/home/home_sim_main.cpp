@@ -59,11 +59,16 @@ int main(int argc, char** argv) {
     };
     try {
       if (a == "--free-port") return free_port();
-      if (a == "--broker") broker = value();
-      else if (a == "--world") world = value();
-      else if (a == "--base") base = value();
-      else if (a == "--mute") mute.insert(value());
-      else return usage();
+      if (a == "--broker")
+        broker = value();
+      else if (a == "--world")
+        world = value();
+      else if (a == "--base")
+        base = value();
+      else if (a == "--mute")
+        mute.insert(value());
+      else
+        return usage();
     } catch (const std::exception& e) {
       std::fprintf(stderr, "marvin-home-sim: %s\n", e.what());
       return usage();

@@ -10,11 +10,10 @@
 // user has been told it failed.
 #pragma once
 
+#include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/posix/stream_descriptor.hpp>
 #include <boost/asio/steady_timer.hpp>
-
-#include <atomic>
 #include <chrono>
 #include <functional>
 #include <optional>
@@ -40,7 +39,7 @@ struct MqttOptions {
   // The last will, published by the broker when this client vanishes (retained).
   std::string will_topic;
   std::string will_payload;
-  // Sent first on every connection (retained), e.g. "online" on the will's topic.
+  // Sent on every connection once subscribed (retained), e.g. "online" on the will's topic.
   std::string birth_topic;
   std::string birth_payload;
 };
@@ -99,7 +98,7 @@ class MqttClient {
   bool reading_ = false;
   bool writing_ = false;
   bool stopped_ = false;
-  bool session_up_ = false;  // io thread: CONNACK seen on this socket
+  bool session_up_ = false;           // io thread: CONNACK seen on this socket
   std::vector<int> pending_subacks_;  // io thread: SUBSCRIBE ids of this connection
   std::chrono::milliseconds backoff_{100};
   boost::asio::steady_timer retry_timer_;

@@ -9,18 +9,17 @@
 // otherwise the skill says the device did not answer, or that the home's hub is not
 // reachable (the host keeps reconnecting meanwhile).
 #include <algorithm>
+#include <marvin/skill.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <marvin/skill.hpp>
 
 #include "resolve.h"
 
 namespace {
 
-using nlohmann::json;
 using marvin_home_skill::Resolution;
+using nlohmann::json;
 
 constexpr int kStep = 25;  // "brighter": a quarter of the range
 
@@ -91,8 +90,7 @@ class HomeSkill : public marvin::Skill {
     }
     Resolution r = marvin_home_skill::resolve(devices, phrase, here);
     if (r.matches.empty()) {
-      robot().say("I don't know a device called the " + marvin_home_skill::tidy(phrase) +
-                  (r.room.empty() ? "" : "") + ".");
+      robot().say("I don't know a device called the " + marvin_home_skill::tidy(phrase) + ".");
       return {};
     }
     if (r.matches.size() > 1 && !(r.plural || allow_many)) {
@@ -212,9 +210,8 @@ class HomeSkill : public marvin::Skill {
         continue;
       }
       const bool on = d.value("on", json()).is_boolean() && d["on"].get<bool>();
-      const int current = on && d.value("brightness", json()).is_number_integer()
-                              ? d["brightness"].get<int>()
-                              : 0;
+      const int current =
+          on && d.value("brightness", json()).is_number_integer() ? d["brightness"].get<int>() : 0;
       // Absolute, so the command means the same if it were delivered twice.
       const int level = std::clamp(current + delta, delta > 0 ? kStep : 5, 100);
       if (auto s = command(d, json{{"on", true}, {"brightness", level}})) done.push_back(*s);

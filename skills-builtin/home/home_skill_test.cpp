@@ -1,10 +1,10 @@
 // The home skill with the MockRobot's scripted devices: what it says and what it sends.
 #include <doctest/doctest.h>
 
-#include <nlohmann/json.hpp>
-
+#include <fstream>
 #include <marvin/testing/mock_robot.hpp>
 #include <marvin/testing/skill_harness.hpp>
+#include <nlohmann/json.hpp>
 
 #include "resolve.h"
 
@@ -16,9 +16,11 @@ namespace {
 void world(marvin::testing::SkillHarness& h) {
   auto& r = h.robot();
   r.add_device(R"({"id": "hall", "name": "hall light", "room": "hall"})");
-  r.add_device(R"({"id": "lamp", "name": "living room lamp", "room": "living room", "dimmable": true,
+  r.add_device(
+      R"({"id": "lamp", "name": "living room lamp", "room": "living room", "dimmable": true,
                    "aliases": ["big lamp"]})");
-  r.add_device(R"({"id": "kitchen", "name": "kitchen light", "room": "kitchen", "dimmable": true})");
+  r.add_device(
+      R"({"id": "kitchen", "name": "kitchen light", "room": "kitchen", "dimmable": true})");
   r.add_device(R"({"id": "bed", "name": "bedroom light", "room": "bedroom", "dimmable": true})");
   r.add_device(R"({"id": "fan", "name": "bedroom fan", "room": "bedroom", "type": "fan"})");
   r.add_device(R"({"id": "bath", "name": "bathroom light", "room": "bathroom"})");
@@ -74,8 +76,7 @@ TEST_CASE("turn everything off in the bedroom") {
   h.robot().clear();
   CHECK(h.intent_of("turn everything off in the bedroom") == "home/all_off");
   CHECK(h.say("turn everything off in the bedroom") == Lines{"Everything in the bedroom is off."});
-  CHECK(sent(h) ==
-        Lines{R"(smarthome_set bed {"on":false})", R"(smarthome_set fan {"on":false})"});
+  CHECK(sent(h) == Lines{R"(smarthome_set bed {"on":false})", R"(smarthome_set fan {"on":false})"});
   CHECK(state(h, "fan")["on"] == false);
 }
 
@@ -132,3 +133,44 @@ TEST_CASE("resolve: rooms, kinds, plurals") {
 }
 
 }  // namespace
+
+TEST_CASE("smarthome_set: a malformed state is refused with the field named, nothing sent") {
+  marvin::testing::MockRobot robot("lights", {"smarthome"});
+  robot.add_device(R"({"id": "k", "name": "kitchen light", "dimmable": true})");
+  const marvin_robot_api* api = robot.api();
+  CHECK(api->smarthome_set(robot.host(), "k", R"({"on": 3})") == MARVIN_ERR_INVALID);
+  CHECK(std::string(api->last_error(robot.host())) ==
+        R"(state.on: expected "on": true|false or "brightness": 0..100, got 3)");
+  CHECK(api->smarthome_set(robot.host(), "k", R"({"brightness": 101})") == MARVIN_ERR_INVALID);
+  CHECK(api->smarthome_set(robot.host(), "k", "{oops") == MARVIN_ERR_INVALID);
+  CHECK(std::string(api->last_error(robot.host())) == "state is not valid JSON at byte 2");
+  CHECK(api->smarthome_set(robot.host(), "nothing", "on") == MARVIN_ERR_NOT_FOUND);
+  CHECK(robot.actions().empty());
+  CHECK(json::parse(*robot.device("k"))["on"] == false);
+  CHECK(api->smarthome_set(robot.host(), "k", "on") == MARVIN_OK);
+  CHECK(json::parse(*robot.device("k"))["on"] == true);
+  // Without the permission: refused before anything happens.
+  marvin::testing::MockRobot plain("plain", {});
+  plain.add_device(R"({"id": "k", "name": "kitchen light"})");
+  CHECK(plain.api()->smarthome_set(plain.host(), "k", "on") == MARVIN_ERR_PERMISSION);
+  CHECK(json::parse(*plain.device("k"))["on"] == false);
+}
+
+TEST_CASE("today's templates already take most of the examples to their own intent") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  std::ifstream in(std::string(HOME_SKILL_DIR) + "/skill.json");
+  json manifest = json::parse(in);
+  int total = 0, right = 0;
+  for (const json& intent : manifest["intents"]) {
+    REQUIRE(intent["examples"].size() >= 30);
+    for (const json& example : intent["examples"]) {
+      ++total;
+      if (h.intent_of(example.get<std::string>()) == "home/" + intent["name"].get<std::string>())
+        ++right;
+      else
+        MESSAGE("not " << intent["name"] << ": " << example);
+    }
+  }
+  MESSAGE(right << " of " << total << " examples reach their intent");
+  CHECK(right * 100 >= total * 85);
+}

@@ -11,11 +11,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace marvin_home_skill {
 
@@ -41,7 +40,8 @@ inline std::string join(const std::vector<std::string>& ws) {
 
 // "the big lamp" -> "big lamp": articles and possessives say nothing about the device.
 inline std::string tidy(const std::string& text) {
-  static const std::set<std::string> skip = {"the", "a", "my", "our", "your", "this", "that", "one", "please"};
+  static const std::set<std::string> skip = {"the",  "a",    "my",  "our",   "your",
+                                             "this", "that", "one", "please"};
   std::vector<std::string> out;
   for (const std::string& w : words(text)) {
     if (!skip.count(w)) out.push_back(w);
@@ -57,9 +57,9 @@ struct Resolution {
 
 inline bool kind_word(const std::string& w, const std::string& type, bool* plural) {
   static const std::vector<std::pair<std::string, std::string>> kinds = {
-      {"light", "light"}, {"lamp", "light"},   {"bulb", "light"},  {"fan", "fan"},
-      {"switch", "switch"}, {"plug", "switch"}, {"socket", "switch"}, {"device", "*"},
-      {"thing", "*"}};
+      {"light", "light"},   {"lamp", "light"},    {"bulb", "light"},
+      {"fan", "fan"},       {"switch", "switch"}, {"plug", "switch"},
+      {"socket", "switch"}, {"device", "*"},      {"thing", "*"}};
   for (const auto& [word, kind] : kinds) {
     if (w == word || w == word + "s" || w == word + "es") {
       if (w != word) *plural = true;

@@ -1,8 +1,9 @@
 // The home config file and its password file.
+#include "home/config.h"
+
 #include <doctest/doctest.h>
 #include <sys/stat.h>
 
-#include "home/config.h"
 #include "support/files.h"
 
 namespace marvin::home {
@@ -36,7 +37,8 @@ TEST_CASE("a password file others can read is refused, naming the file and its m
   ::chmod((dir / "pw").c_str(), 0644);
   write_text(dir / "home.json", R"({"broker": {"user": "marvin", "password_file": "pw"}})");
   CHECK_THROWS_WITH_AS(load_home_config(dir / "home.json"),
-                       doctest::Contains(((dir / "pw").string() + " has mode 0644").c_str()), ConfigError);
+                       doctest::Contains(((dir / "pw").string() + " has mode 0644").c_str()),
+                       ConfigError);
   CHECK_THROWS_WITH_AS(read_password_file(dir / "pw"), doctest::Contains("chmod 600"), ConfigError);
   ::chmod((dir / "pw").c_str(), 0640);
   CHECK_THROWS_WITH_AS(read_password_file(dir / "pw"), doctest::Contains("has mode 0640"),
@@ -60,7 +62,8 @@ TEST_CASE("config errors name the file and the field") {
   write_text(dir / "home.json", "{");
   CHECK_THROWS_WITH_AS(load_home_config(file), doctest::Contains("not valid JSON at byte"),
                        ConfigError);
-  CHECK_THROWS_WITH_AS(broker_from_address("hub:99999"), doctest::Contains("1..65535"), ConfigError);
+  CHECK_THROWS_WITH_AS(broker_from_address("hub:99999"), doctest::Contains("1..65535"),
+                       ConfigError);
   CHECK(broker_from_address("hub:1884").port == 1884);
 }
 

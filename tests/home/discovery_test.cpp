@@ -1,21 +1,26 @@
 // Discovery payloads and state reports, parsed without a broker.
-#include <doctest/doctest.h>
-
 #include "home/discovery.h"
+
+#include <doctest/doctest.h>
 
 namespace marvin::home {
 namespace {
 
 TEST_CASE("discovery topics: light, switch and fan configs, with or without a node id") {
   std::string component, object;
-  CHECK(parse_ha_config_topic("homeassistant", "homeassistant/light/desk/config", &component, &object));
+  CHECK(parse_ha_config_topic("homeassistant", "homeassistant/light/desk/config", &component,
+                              &object));
   CHECK(component == "light");
   CHECK(object == "desk");
-  CHECK(parse_ha_config_topic("homeassistant", "homeassistant/fan/n1/ceiling/config", &component, &object));
+  CHECK(parse_ha_config_topic("homeassistant", "homeassistant/fan/n1/ceiling/config", &component,
+                              &object));
   CHECK(object == "n1/ceiling");
-  CHECK_FALSE(parse_ha_config_topic("homeassistant", "homeassistant/sensor/t/config", &component, &object));
-  CHECK_FALSE(parse_ha_config_topic("homeassistant", "homeassistant/light/desk/state", &component, &object));
-  CHECK_FALSE(parse_ha_config_topic("homeassistant", "other/light/desk/config", &component, &object));
+  CHECK_FALSE(
+      parse_ha_config_topic("homeassistant", "homeassistant/sensor/t/config", &component, &object));
+  CHECK_FALSE(parse_ha_config_topic("homeassistant", "homeassistant/light/desk/state", &component,
+                                    &object));
+  CHECK_FALSE(
+      parse_ha_config_topic("homeassistant", "other/light/desk/config", &component, &object));
 }
 
 TEST_CASE("a default-schema light: brightness on its own topics, scaled") {
@@ -48,10 +53,11 @@ TEST_CASE("malformed configs say what is wrong") {
                        "the discovery config must be a JSON object", DiscoveryError);
   CHECK_THROWS_WITH_AS(parse_ha_config("light", "x", R"({"name":"a"})"),
                        "\"command_topic\" is missing", DiscoveryError);
-  CHECK_THROWS_WITH_AS(parse_ha_config("light", "x", R"({"command_topic":"c","brightness_scale":0})"),
-                       "\"brightness_scale\" must be a positive integer", DiscoveryError);
-  CHECK_THROWS_WITH_AS(parse_z2m_devices("z", R"({"a":1})"),
-                       "the device list must be a JSON array", DiscoveryError);
+  CHECK_THROWS_WITH_AS(
+      parse_ha_config("light", "x", R"({"command_topic":"c","brightness_scale":0})"),
+      "\"brightness_scale\" must be a positive integer", DiscoveryError);
+  CHECK_THROWS_WITH_AS(parse_z2m_devices("z", R"({"a":1})"), "the device list must be a JSON array",
+                       DiscoveryError);
   CHECK_THROWS_WITH_AS(parse_z2m_devices("z", R"([{"type":"Router"}])"),
                        "device [0] has no \"friendly_name\"", DiscoveryError);
   // A removed device (empty payload) is no error.
@@ -81,7 +87,8 @@ TEST_CASE("Zigbee2MQTT: rooms from the friendly name or the description; sensors
   REQUIRE(messages.size() == 1);
   CHECK(messages[0].second == R"({"brightness":127})");
   DeviceState s;
-  CHECK(apply_state(ds[0], "zigbee2mqtt/upstairs/Reading Lamp", R"({"state":"ON","brightness":254})", &s));
+  CHECK(apply_state(ds[0], "zigbee2mqtt/upstairs/Reading Lamp",
+                    R"({"state":"ON","brightness":254})", &s));
   CHECK(s.brightness_pct == 100);
   CHECK(s.reports == 1);
   CHECK_FALSE(apply_state(ds[0], "zigbee2mqtt/upstairs/Reading Lamp", "[]", &s));

@@ -5,9 +5,8 @@
 
 #include <doctest/doctest.h>
 
-#include <boost/asio/io_context.hpp>
 #include <boost/asio/executor_work_guard.hpp>
-
+#include <boost/asio/io_context.hpp>
 #include <condition_variable>
 #include <map>
 #include <mutex>
@@ -73,6 +72,17 @@ class Peer {
     return client_->publish(t, p, 1, retain);
   }
   MqttClient& client() { return *client_; }
+  // Waits until `n` messages on `topic` with payloads containing `part` have arrived.
+  bool wait_messages(const std::string& topic, const std::string& part, std::size_t n) {
+    std::unique_lock lock(mutex_);
+    return changed_.wait_for(lock, kWait, [&] {
+      std::size_t seen = 0;
+      for (const auto& [t, p] : received_) {
+        if (t == topic && p.find(part) != std::string::npos) ++seen;
+      }
+      return seen >= n;
+    });
+  }
   // Waits for a message on `topic` whose payload contains `part`; its payload.
   std::optional<std::string> wait_message(const std::string& topic, const std::string& part = "") {
     std::unique_lock lock(mutex_);
@@ -104,15 +114,15 @@ class Peer {
 class LogCapture {
  public:
   LogCapture() {
-    previous_ = set_log_sink([this](LogLevel level, std::string_view component,
-                                    std::string_view message) {
-      if (level < LogLevel::kWarning) return;
-      {
-        std::lock_guard lock(mutex_);
-        lines_.push_back(std::string(component) + ": " + std::string(message));
-      }
-      changed_.notify_all();
-    });
+    previous_ =
+        set_log_sink([this](LogLevel level, std::string_view component, std::string_view message) {
+          if (level < LogLevel::kWarning) return;
+          {
+            std::lock_guard lock(mutex_);
+            lines_.push_back(std::string(component) + ": " + std::string(message));
+          }
+          changed_.notify_all();
+        });
   }
   ~LogCapture() { set_log_sink(previous_); }
   // Waits for a line containing every part.

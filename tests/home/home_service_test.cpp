@@ -1,6 +1,5 @@
 // The smart-home service against a real mosquitto and the real simulator process.
 #include <doctest/doctest.h>
-
 #include <unistd.h>
 
 #include <fstream>
@@ -13,8 +12,12 @@
 namespace marvin::home::testing {
 namespace {
 
-const std::vector<std::string> kWorldDevices = {"hall light",   "living room lamp", "kitchen light",
-                                                "bedroom light", "bedroom fan",     "bathroom light",
+const std::vector<std::string> kWorldDevices = {"hall light",
+                                                "living room lamp",
+                                                "kitchen light",
+                                                "bedroom light",
+                                                "bedroom fan",
+                                                "bathroom light",
                                                 "tv"};
 
 bool all_world_devices(const std::vector<Device>& devices) {
@@ -128,7 +131,8 @@ TEST_CASE("Home Assistant discovery: a JSON-schema light and a default-schema sw
       if (cmd.contains("brightness")) state["brightness"] = cmd["brightness"];
       device.publish("home/desk/state", state.dump(), true);
     }
-    if (t == "home/heater/cmd") device.publish("home/heater/stat", p == "turn_on" ? "is_on" : "is_off", true);
+    if (t == "home/heater/cmd")
+      device.publish("home/heater/stat", p == "turn_on" ? "is_on" : "is_off", true);
   });
   device.subscribe("home/desk/set");
   device.subscribe("home/heater/cmd");
@@ -147,7 +151,9 @@ TEST_CASE("Home Assistant discovery: a JSON-schema light and a default-schema sw
   home.start();
   REQUIRE(home.wait_connected(kWait));
   REQUIRE(home.wait_devices(
-      [](const std::vector<Device>& ds) { return has_device(ds, "desk lamp") && has_device(ds, "heater"); },
+      [](const std::vector<Device>& ds) {
+        return has_device(ds, "desk lamp") && has_device(ds, "heater");
+      },
       kWait));
   std::optional<Device> desk = home.device("ha:light/desk");
   REQUIRE(desk);
@@ -269,7 +275,74 @@ TEST_CASE("1 MB payloads are dropped unread and do not grow memory") {
   // (ASan's quarantine keeps freed blocks, so the figure means nothing there.)
   const long grown = resident_bytes() - before;
   CHECK_MESSAGE(grown < 4L * 1024 * 1024, "resident memory grew by " << grown << " bytes");
+#else
+  (void)before;
 #endif
+}
+
+TEST_CASE("commands over the bus: ignored unless enabled, then only the documented topics") {
+  MosquittoBroker broker;
+  LogCapture log;
+  Peer peer(broker);
+  peer.subscribe("marvin/test/#");
+  REQUIRE(peer.wait_connected());
+  std::mutex mutex;
+  std::vector<std::string> taken;
+  auto record = [&](const std::string& name, const std::string& payload) {
+    std::lock_guard lock(mutex);
+    taken.push_back(name + ": " + payload);
+  };
+  {
+    HomeService off(config_for(broker));  // commands: false, the default
+    off.on_command(record);
+    off.start();
+    REQUIRE(off.wait_connected(kWait));
+    REQUIRE(peer.publish("marvin/test/command/say", "hello"));
+    // The broker has routed it to every subscriber once the peer has its own copy; the
+    // service's marker (settle) travels behind it.
+    REQUIRE(peer.wait_message("marvin/test/command/say", "hello"));
+    REQUIRE(off.settle(kWait));
+    std::lock_guard lock(mutex);
+    CHECK(taken.empty());
+  }
+  HomeConfig config = config_for(broker);
+  config.commands = true;
+  HomeService on(config);
+  on.on_command(record);
+  on.start();
+  REQUIRE(on.wait_connected(kWait));
+  REQUIRE(peer.publish("marvin/test/command/reboot", "now"));
+  REQUIRE(peer.publish("marvin/test/command/utterance", "turn on the fan"));
+  REQUIRE(peer.wait_message("marvin/test/command/utterance"));
+  REQUIRE(on.settle(kWait));
+  CHECK(log.wait_for({"ignored marvin/test/command/reboot", "not a command Marvin takes"}));
+  std::lock_guard lock(mutex);
+  CHECK(taken == std::vector<std::string>{"utterance: turn on the fan"});
+}
+
+TEST_CASE("Marvin's presence: availability, status with the room hook, events, HA discovery") {
+  MosquittoBroker broker;
+  Peer peer(broker);
+  peer.subscribe("marvin/test/#");
+  peer.subscribe("homeassistant/+/marvin_test/+/config");
+  REQUIRE(peer.wait_connected());
+  HomeService home(config_for(broker));
+  home.set_room_hook([] { return std::string("Kitchen"); });
+  home.start();
+  REQUIRE(home.wait_connected(kWait));
+  CHECK(peer.wait_message("marvin/test/availability", "online"));
+  home.publish_activity("speaking");
+  CHECK(peer.wait_message("marvin/test/status", R"({"activity":"speaking","room":"kitchen"})"));
+  home.publish_event("intruder_alert", "someone unknown in the hall");
+  std::optional<std::string> event = peer.wait_message("marvin/test/event", "intruder_alert");
+  REQUIRE(event);
+  CHECK(nlohmann::json::parse(*event)["text"] == "someone unknown in the hall");
+  std::optional<std::string> discovery =
+      peer.wait_message("homeassistant/event/marvin_test/event/config");
+  REQUIRE(discovery);
+  CHECK(nlohmann::json::parse(*discovery)["event_types"].size() == 4);
+  home.stop();  // a clean stop says offline too
+  CHECK(peer.wait_message("marvin/test/availability", "offline"));
 }
 
 }  // namespace

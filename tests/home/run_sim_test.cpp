@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include "home_fixture.h"
@@ -13,8 +14,10 @@ namespace marvin::home::testing {
 namespace {
 
 ChildProcess run_marvin(std::vector<std::string> extra) {
-  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--no-builtin-skills",
-                                "--skills-dir", MARVIN_HOME_SKILL_DIR};
+  std::vector<std::string> argv{
+      MARVIN_EXE, "run", "--sim", "--no-builtin-skills", "--skills-dir", MARVIN_HOME_SKILL_DIR};
+  if (std::find(extra.begin(), extra.end(), "--data-dir") == extra.end())
+    argv.push_back("--in-memory");
   argv.insert(argv.end(), extra.begin(), extra.end());
   test_support::ChildOptions o;
   o.err = test_support::ChildStream::kNull;
@@ -76,10 +79,55 @@ TEST_CASE("marvin run --sim: the ambiguity question, and the room from the confi
   CHECK(peer.wait_message("marvin/e2e/availability", "offline"));
 }
 
+TEST_CASE("marvin run --sim: a device that never answers; the broker going away and back") {
+  MosquittoBroker broker;
+  ChildProcess sim = start_sim(broker, {"--mute", "bedroom fan"});
+  test_support::TempDir dir;
+  test_support::write_text(dir / "home.json", R"({"broker": {"host": "127.0.0.1", "port": )" +
+                                                  std::to_string(broker.port()) +
+                                                  R"(}, "answer_timeout_ms": 300})");
+  Peer peer(broker);
+  peer.subscribe("marvin/home/availability");
+  REQUIRE(peer.wait_connected());
+  ChildProcess marvin = run_marvin({"--home-config", (dir / "home.json").string()});
+  REQUIRE(peer.wait_messages("marvin/home/availability", "online", 1));
+  marvin.send_line("switch on the fan");
+  marvin.wait_for_line("Marvin: The bedroom fan didn't answer.");
+
+  broker.kill();
+  sim.wait_for_line_containing("broker lost");
+  marvin.send_line("turn on the kitchen light");
+  marvin.wait_for_line(
+      "Marvin: I can't reach the home's hub right now, so the kitchen light is unchanged. "
+      "I'll keep trying to reconnect.");
+  broker.restart();
+  sim.wait_for_line("ready again");
+  // Marvin reconnects in the background (its birth message says when); the same request
+  // works again.
+  REQUIRE(peer.wait_messages("marvin/home/availability", "online", 2));
+  marvin.send_line("turn on the kitchen light");
+  marvin.wait_for_line("Marvin: The kitchen light is on.");
+  sim.wait_for_line("kitchen light: ON 254");
+  CHECK(test_support::exit_code(marvin.finish()) == 0);
+  // The light was switched on once: the request made while the broker was away was not
+  // carried out later.
+  int actions = 0;
+  for (const std::string& line : sim.output_lines()) {
+    if (line.rfind("kitchen light:", 0) == 0) ++actions;
+  }
+  CHECK(actions == 1);
+}
+
 TEST_CASE("marvin run --sim without a broker: says the hub is unreachable, keeps running") {
   const int port = test_support::free_tcp_port();  // nobody listens there
-  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--no-builtin-skills",
-                                "--skills-dir", MARVIN_HOME_SKILL_DIR, "--mqtt",
+  std::vector<std::string> argv{MARVIN_EXE,
+                                "run",
+                                "--sim",
+                                "--in-memory",
+                                "--no-builtin-skills",
+                                "--skills-dir",
+                                MARVIN_HOME_SKILL_DIR,
+                                "--mqtt",
                                 "127.0.0.1:" + std::to_string(port)};
   test_support::ChildOptions o;
   o.err = test_support::ChildStream::kNull;
@@ -90,14 +138,46 @@ TEST_CASE("marvin run --sim without a broker: says the hub is unreachable, keeps
   CHECK(test_support::exit_code(marvin.finish()) == 0);
 }
 
+TEST_CASE("marvin devices list shows discovered devices with rooms, state and aliases") {
+  MosquittoBroker broker;
+  ChildProcess sim = start_sim(broker);
+  test_support::TempDir data;
+  ChildProcess add({MARVIN_EXE, "devices", "alias", "add", "The Big Lamp", "living room lamp",
+                    "--data-dir", data.path().string()});
+  CHECK(test_support::exit_code(add.finish()) == 0);
+  CHECK(add.output() == "\"the big lamp\" now means living room lamp\n");
+  ChildProcess bad(
+      {MARVIN_EXE, "devices", "alias", "add", "", "tv", "--data-dir", data.path().string()});
+  CHECK(test_support::exit_code(bad.finish()) == 2);
+  CHECK(bad.errors() == "marvin: alias: a device alias must not be empty\n");
+
+  ChildProcess list({MARVIN_EXE, "devices", "list", "--mqtt", broker.address(), "--data-dir",
+                     data.path().string()});
+  CHECK(test_support::exit_code(list.finish()) == 0);
+  const std::vector<std::string> lines = list.output_lines();
+  CHECK(lines.size() == 7);
+  CHECK(std::find(lines.begin(), lines.end(),
+                  "living room lamp (light, dimmable) in living room: off "
+                  "[z2m:living room/living room lamp] aliases: \"the big lamp\"") != lines.end());
+  CHECK(std::find(lines.begin(), lines.end(),
+                  "bedroom fan (fan) in bedroom: off [z2m:bedroom/bedroom fan]") != lines.end());
+
+  // The alias works by voice too.
+  ChildProcess marvin =
+      run_marvin({"--mqtt", broker.address(), "--data-dir", data.path().string()});
+  marvin.send_line("turn on the big lamp");
+  marvin.wait_for_line("Marvin: The living room lamp is on.");
+  sim.wait_for_line("living room lamp: ON 254");
+}
+
 TEST_CASE("a password file other users can read is refused before anything starts") {
   test_support::TempDir dir;
   test_support::write_text(dir / "pw", "secret\n");
   ::chmod((dir / "pw").c_str(), 0644);
   test_support::write_text(dir / "home.json",
                            R"({"broker": {"user": "marvin", "password_file": "pw"}})");
-  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--home-config",
-                                (dir / "home.json").string()};
+  std::vector<std::string> argv{MARVIN_EXE,    "run",           "--sim",
+                                "--in-memory", "--home-config", (dir / "home.json").string()};
   ChildProcess marvin(argv);
   int status = marvin.finish();
   CHECK(test_support::exit_code(status) == 2);

@@ -148,6 +148,23 @@ struct FakeRobot {
         if (r.room.empty()) return MARVIN_ERR_NOT_FOUND;
         return write(out, r.room);
       };
+      // Smart home: one lamp that answers, a fan that never does.
+      t.smarthome_devices = [](marvin_host* h, marvin_text_out* out) {
+        FakeRobot& r = of(h);
+        if (marvin_status s = r.deny_unless("smarthome")) return s;
+        return write(out, R"({"connected":true,"room":"hall","devices":[)"
+                          R"({"id":"lamp","name":"lamp","room":"hall","type":"light"}]})");
+      };
+      t.smarthome_set = [](marvin_host* h, const char* device, const char* state) {
+        FakeRobot& r = of(h);
+        if (marvin_status s = r.deny_unless("smarthome")) return s;
+        r.actions.push_back(std::string("home.set ") + device + " " + state);
+        if (std::string(device) == "fan") {
+          r.last_error = "the fan did not report the new state within 3000 ms";
+          return MARVIN_ERR_UNAVAILABLE;
+        }
+        return MARVIN_OK;
+      };
       return t;
     }();
     return &table;

@@ -81,6 +81,29 @@ end)
   CHECK(s.robot.said[0] == "Hello Ada, you said utterance");
 }
 
+TEST_CASE("marvin.home: devices as a table; set says true, or false and why") {
+  Loaded s("lights", R"(
+marvin.on("go", function()
+  local home = marvin.home.devices()
+  marvin.say(home.room .. ": " .. home.devices[1].name)
+  marvin.say(tostring(marvin.home.set("lamp", {on = true, brightness = 40})))
+  local ok, why = marvin.home.set("fan", "on")
+  marvin.say(tostring(ok) .. ", " .. why)
+end)
+)", {"go"}, {"smarthome"});
+  CHECK(s.handle("go", "{}") == MARVIN_OK);
+  CHECK(s.robot.said == std::vector<std::string>{
+                           "hall: lamp", "true",
+                           "false, the fan did not report the new state within 3000 ms"});
+  CHECK(s.robot.actions == std::vector<std::string>{R"(home.set lamp {"brightness":40,"on":true})",
+                                                    "home.set fan on"});
+  Loaded denied("nolights", R"(
+marvin.on("go", function() marvin.home.set("lamp", "on") end)
+)", {"go"});
+  CHECK(denied.handle("go", "{}") != MARVIN_OK);
+  CHECK(denied.robot.actions.empty());
+}
+
 TEST_CASE("loading reports the file and line, and intents without handlers") {
   TempDir dir;
   FakeRobot robot;

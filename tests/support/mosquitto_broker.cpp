@@ -38,11 +38,13 @@ MosquittoBroker::MosquittoBroker() {
   }
   port_ = free_tcp_port();
   write_text(dir_ / "mosquitto.conf",
-             "listener " + std::to_string(port_) + " 127.0.0.1\n"
-             "allow_anonymous true\n"
-             "persistence false\n"
-             "log_dest stderr\n"
-             "log_type error\nlog_type warning\nlog_type notice\nlog_type information\n");
+             "listener " + std::to_string(port_) +
+                 " 127.0.0.1\n"
+                 "allow_anonymous true\n"
+                 "persistence false\n"
+                 "set_tcp_nodelay true\n"
+                 "log_dest stderr\n"
+                 "log_type error\nlog_type warning\nlog_type notice\nlog_type information\n");
   start();
 }
 
@@ -57,10 +59,9 @@ void MosquittoBroker::start() {
   process_ = std::make_unique<ChildProcess>(ChildProcess::shell(
       "exec " + *binary() + " -c '" + (dir_ / "mosquitto.conf").string() + "' 2>&1", options));
   // "mosquitto version 2.0.11 running" follows the listener being opened.
-  process_->wait_for_line("mosquitto running on port " + std::to_string(port_),
-                          [](const std::string& line) {
-                            return line.find(" running") != std::string::npos;
-                          });
+  process_->wait_for_line(
+      "mosquitto running on port " + std::to_string(port_),
+      [](const std::string& line) { return line.find(" running") != std::string::npos; });
 }
 
 void MosquittoBroker::kill() {
