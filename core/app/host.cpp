@@ -379,6 +379,13 @@ void Host::start_home() {
   }
   home_link_ = std::make_unique<HomeLink>(*home_);
   services_.smarthome = home_link_.get();
+  // "Turn on the light" means the light of the room the robot is in, when it knows (the
+  // navigator: the simulated home, or a floor plan on the serial base); else the config's.
+  if (navigation::GoingPlaces* places = services_.going_places) {
+    home_->set_room_hook([places, fallback = options_.home->room] {
+      return places->where_am_i().value_or(fallback);
+    });
+  }
   home_->start();
   // Wait for the broker once (what it retained: the devices), so the first request of a
   // session finds them; the service keeps retrying in the background otherwise.
