@@ -108,6 +108,7 @@ TEST_CASE("normalise: contractions, spellings, ordinals, time formats") {
   CHECK(mi::normalize("half past two") == Words{"half", "past", "2"});
   CHECK(mi::normalize("quarter to nine") == Words{"quarter", "to", "9"});
   CHECK(mi::normalize("10 mins") == Words{"10", "minutes"});
+  CHECK(mi::normalize("how ya doin") == Words{"how", "you", "doing"});
 }
 
 TEST_CASE("politeness and filler around a request are dropped, never the whole request") {
