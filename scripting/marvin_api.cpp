@@ -7,9 +7,12 @@
 // No C++ object with a destructor is alive across a call that may raise (Lua errors
 // longjmp): computed text goes through SkillContext's scratch members.
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include <lua.hpp>
+
+#include <cstddef>
 
 #include "scripting/lua_json.h"
 #include "scripting/skill_context.h"
@@ -266,6 +269,52 @@ int l_tilt_head(lua_State* L) {
   return 0;
 }
 
+// --- going places (Robot API 1.2) ----------------------------------------------------------
+
+// True when the host's table reaches `member` (an older host's table ends before it).
+#define MARVIN_HAS_API(ctx, member)                                                  \
+  ((ctx)->api->struct_size >= offsetof(marvin_robot_api, member) + sizeof(void*) && \
+   (ctx)->api->member != nullptr)
+
+// marvin.go_to(place): true once there; false and the reason when the place is unknown or
+// the robot gave up ("the kitchen door is blocked"). "stop" ends the request, as move does.
+int l_go_to(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* place = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "motion", "go_to");
+  need(L, ctx, MARVIN_HAS_API(ctx, go_to), "go_to");
+  Sandbox* sb = ctx->sandbox.get();
+  sb->pause_clock();  // the body's time is not the script's
+  const marvin_status status = ctx->api->go_to(ctx->host, place);
+  sb->resume_clock();
+  if (status == MARVIN_ERR_NOT_FOUND || status == MARVIN_ERR_UNAVAILABLE) {
+    lua_pushboolean(L, 0);
+    lua_pushstring(L, ctx->api->last_error(ctx->host));
+    return 2;
+  }
+  check(L, ctx, "go_to", status);
+  lua_pushboolean(L, 1);
+  return 1;
+}
+
+// marvin.where_am_i(): the room's name, or nil between rooms.
+int l_where_am_i(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "sensors", "where_am_i");
+  need(L, ctx, MARVIN_HAS_API(ctx, where_am_i), "where_am_i");
+  const marvin_status status = ctx->call_text(
+      [ctx](marvin_text_out* out) { return ctx->api->where_am_i(ctx->host, out); });
+  if (status == MARVIN_ERR_NOT_FOUND) {
+    lua_pushnil(L);
+    return 1;
+  }
+  check(L, ctx, "where_am_i", status);
+  lua_pushlstring(L, ctx->text.data(), ctx->text.size());
+  return 1;
+}
+
+#undef MARVIN_HAS_API
+
 // --- time and log ------------------------------------------------------------------------------
 
 int l_now(lua_State* L) {
@@ -424,6 +473,91 @@ int l_storage_set(lua_State* L) {
   return 0;
 }
 
+// --- vision (Robot API 1.2) ------------------------------------------------------------------------
+
+// A 1.2 slot exists in the host's table (an older host's table ends before it).
+#define MARVIN_HAS_SLOT(ctx, member)                                                 \
+  ((ctx)->api->struct_size >= offsetof(marvin_robot_api, member) + sizeof(void*) && \
+   (ctx)->api->member != nullptr)
+
+int l_vision_look(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "camera", "vision.look");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, vision_look), "vision.look");
+  const marvin_status status = ctx->call_text(
+      [ctx](marvin_text_out* out) { return ctx->api->vision_look(ctx->host, out); });
+  check(L, ctx, "vision.look", status);
+  push_json_text(L, ctx, "vision.look");
+  return 1;
+}
+
+int l_vision_photo(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "camera", "vision.photo");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, vision_capture_photo), "vision.photo");
+  const marvin_status status = ctx->call_text(
+      [ctx](marvin_text_out* out) { return ctx->api->vision_capture_photo(ctx->host, out); });
+  check(L, ctx, "vision.photo", status);
+  lua_pushlstring(L, ctx->text.data(), ctx->text.size());
+  return 1;
+}
+
+int l_vision_enroll(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* name = luaL_checkstring(L, 1);
+  const lua_Integer frames = luaL_optinteger(L, 2, 5);
+  luaL_argcheck(L, frames >= 1 && frames <= 20, 2, "frames must be 1..20");
+  require_permission(L, ctx, "faces", "vision.enroll");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, vision_enroll_face), "vision.enroll");
+  const marvin_status status = ctx->call_text([ctx, name, frames](marvin_text_out* out) {
+    return ctx->api->vision_enroll_face(ctx->host, name, static_cast<uint32_t>(frames), out);
+  });
+  check(L, ctx, "vision.enroll", status);
+  push_json_text(L, ctx, "vision.enroll");
+  return 1;
+}
+
+int l_vision_forget(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* name = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "faces", "vision.forget");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, vision_forget_face), "vision.forget");
+  const marvin_status status = ctx->api->vision_forget_face(ctx->host, name);
+  if (status == MARVIN_ERR_NOT_FOUND) {
+    lua_pushboolean(L, 0);
+    return 1;
+  }
+  check(L, ctx, "vision.forget", status);
+  lua_pushboolean(L, 1);
+  return 1;
+}
+
+int l_vision_teach(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* name = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "camera", "vision.teach");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, vision_teach_object), "vision.teach");
+  check(L, ctx, "vision.teach", ctx->api->vision_teach_object(ctx->host, name));
+  return 0;
+}
+
+int l_vision_find(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* name = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "camera", "vision.find");
+  need(L, ctx, ctx->api->vision_find_object != nullptr, "vision.find");
+  const marvin_status status = ctx->call_text([ctx, name](marvin_text_out* out) {
+    return ctx->api->vision_find_object(ctx->host, name, out);
+  });
+  if (status == MARVIN_ERR_NOT_FOUND) {
+    lua_pushnil(L);
+    return 1;
+  }
+  check(L, ctx, "vision.find", status);
+  push_json_text(L, ctx, "vision.find");
+  return 1;
+}
+
 void set_functions(lua_State* L, const luaL_Reg* functions) { luaL_setfuncs(L, functions, 0); }
 
 }  // namespace
@@ -439,6 +573,7 @@ void install_marvin_api(lua_State* L, SkillContext* ctx) {
   static const luaL_Reg top[] = {
       {"on", l_on},       {"say", l_say},     {"ask", l_ask},   {"light", l_light},
       {"move", l_move},   {"stop", l_stop},   {"tilt_head", l_tilt_head},
+      {"go_to", l_go_to}, {"where_am_i", l_where_am_i},
       {"now", l_now},     {"after", l_after}, {"log", l_log},   {nullptr, nullptr}};
   set_functions(L, top);
 
@@ -468,6 +603,18 @@ void install_marvin_api(lua_State* L, SkillContext* ctx) {
   set_functions(L, storage);
   Sandbox::make_read_only(L, "marvin.storage");
   lua_setfield(L, -2, "storage");
+
+  lua_createtable(L, 0, 4);
+  static const luaL_Reg vision[] = {{"look", l_vision_look},
+                                    {"photo", l_vision_photo},
+                                    {"enroll", l_vision_enroll},
+                                    {"forget", l_vision_forget},
+                                    {"teach", l_vision_teach},
+                                    {"find", l_vision_find},
+                                    {nullptr, nullptr}};
+  set_functions(L, vision);
+  Sandbox::make_read_only(L, "marvin.vision");
+  lua_setfield(L, -2, "vision");
 
   Sandbox::make_read_only(L, "marvin");
   Sandbox::from(L)->set_protected_global(L, "marvin");

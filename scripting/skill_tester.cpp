@@ -10,6 +10,7 @@
 
 #include "common/log.h"
 #include "scripting/lua_json.h"
+#include "skills/scripted_eyes.h"
 #include "scripting/lua_runtime.h"
 #include "scripting/sandbox.h"
 #include "skills/api_json.h"
@@ -119,6 +120,17 @@ class TestWorld : public devices::Body, public skills::User {
     return data_.add_contact(contact);
   }
 
+  // The scripted camera (robot.camera / robot.camera_fails); none until a test sets one.
+  void set_camera(const std::string& seen_json) {
+    eyes_.set_view(seen_json);
+    services_.eyes = &eyes_;
+  }
+  void camera_fails(const std::string& message) {
+    eyes_.set_failure(message);
+    services_.eyes = &eyes_;
+  }
+  const std::vector<std::string>& enrolled_faces() const { return eyes_.enrolled(); }
+
   std::string load_error;
   std::string skill_id;
   std::int64_t now_ms = kStartMs;
@@ -129,6 +141,7 @@ class TestWorld : public devices::Body, public skills::User {
 
  private:
   skills::InMemoryPersonalData data_;
+  skills::ScriptedEyes eyes_{[this](std::string action) { actions.push_back(std::move(action)); }};
   skills::HostServices services_;
   std::unique_ptr<skills::Registry> registry_;
   std::unique_ptr<skills::Manager> manager_;
@@ -363,6 +376,28 @@ int t_add_contact(lua_State* L) {
   return 1;
 }
 
+// robot.camera(json_text): what the camera sees from now on (marvin.vision.look's JSON).
+int t_camera(lua_State* L) {
+  TestWorld& w = world_of(L);
+  const char* view = luaL_checkstring(L, 1);
+  if (!host_call([&] { w.set_camera(view); })) return luaL_error(L, "%s", g_host_error.c_str());
+  return 0;
+}
+
+int t_camera_fails(lua_State* L) {
+  TestWorld& w = world_of(L);
+  const char* message = luaL_checkstring(L, 1);
+  if (!host_call([&] { w.camera_fails(message); })) {
+    return luaL_error(L, "%s", g_host_error.c_str());
+  }
+  return 0;
+}
+
+int t_faces(lua_State* L) {
+  push_strings(L, world_of(L).enrolled_faces(), 0);
+  return 1;
+}
+
 int t_intent(lua_State* L) {
   TestWorld& w = world_of(L);
   const char* utterance = luaL_checkstring(L, 1);
@@ -385,7 +420,8 @@ int install_robot(lua_State* L) {
       {"turn", t_turn},         {"turn_asked", t_turn_asked}, {"said", t_said},
       {"actions", t_actions},   {"stored", t_stored},     {"reminders", t_reminders},
       {"advance", t_advance},   {"now", t_now},           {"set_now", t_set_now},
-      {"add_contact", t_add_contact}, {"intent", t_intent}, {nullptr, nullptr}};
+      {"add_contact", t_add_contact}, {"intent", t_intent}, {"camera", t_camera},
+      {"camera_fails", t_camera_fails}, {"faces", t_faces}, {nullptr, nullptr}};
   lua_createtable(L, 0, 16);
   lua_pushlightuserdata(L, tester);
   luaL_setfuncs(L, functions, 1);

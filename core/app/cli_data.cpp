@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -303,6 +304,8 @@ void install_data(CLI::App& root) {
     dir->add_to(*cmd);
     cmd->callback([dir] {
       SqliteStore store = dir->open();
+      // Who added faces and when: the face gallery logs each enrolment (core/vision).
+      const auto events = store.recent_events(10000);
       for (const data::Person& p : store.list_people()) {
         std::printf("%lld  %s", static_cast<long long>(p.id), p.name.c_str());
         if (p.contact_id) std::printf("  contact %lld", static_cast<long long>(*p.contact_id));
@@ -310,6 +313,15 @@ void install_data(CLI::App& root) {
         std::printf("  %zu face embedding%s", faces.size(), faces.size() == 1 ? "" : "s");
         if (!faces.empty())
           std::printf(" (%s, %zu)", faces.front().model_id.c_str(), faces.front().values.size());
+        for (const auto& e : events) {
+          if (e.kind == "face_enrolled" && e.message.rfind(p.name + ": ", 0) == 0) {
+            const auto t = std::chrono::sys_time<std::chrono::milliseconds>(
+                std::chrono::milliseconds(e.time_utc_ms));
+            std::printf("  last added by %s at %s UTC", e.source.c_str(),
+                        date::format("%Y-%m-%d %H:%M", t).c_str());
+            break;
+          }
+        }
         std::printf("\n");
       }
     });

@@ -7,6 +7,7 @@
 #include "app/cli.h"
 #include "graph/graph.h"
 #include "perception/voice_nodes.h"
+#include "vision/vision_nodes.h"
 
 namespace marvin::app {
 namespace {
@@ -73,6 +74,7 @@ void install_graph(CLI::App& root) {
   // The voice nodes live in a static library; register them explicitly so graph files can
   // name them (a registration object in an unreferenced archive member is dropped).
   perception::register_voice_nodes();
+  vision::register_vision_nodes();
   CLI::App* group = root.add_subcommand("graph", "Run, check or draw a perception graph (JSON)");
   group->require_subcommand(1);
 

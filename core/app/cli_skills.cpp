@@ -24,6 +24,7 @@
 #include "app/voice_run.h"
 #include "app/installed_skills.h"
 #include "common/log.h"
+#include "sim/world.h"
 #include "skills/api_json.h"
 
 namespace marvin::app {
@@ -39,8 +40,40 @@ struct RunOptions {
   bool in_memory = false;
   bool verbose = false;
   std::string mcu_tty;
+  // The simulated home: --world (default examples/worlds/home.json with --sim), --speed,
+  // --seed, --show.
+  std::string world;
+  double speed = 1;
+  std::uint64_t seed = 1;
+  std::string show;
+  std::string camera;
+  std::string mqtt;         // --mqtt HOST:PORT
+  std::string home_config;  // --home-config FILE
   VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
 };
+
+// The smart home: --mqtt (a broker without authentication, e.g. scripts/sim's), else
+// --home-config, else the default config file when it exists; nullopt: none.
+std::optional<home::HomeConfig> home_options(const std::string& mqtt, const std::string& file) {
+  try {
+    if (!mqtt.empty()) {
+      home::HomeConfig c;
+      c.broker = home::broker_from_address(mqtt);
+      return c;
+    }
+    std::optional<std::filesystem::path> path;
+    if (!file.empty()) {
+      path = file;
+    } else if (auto fallback = home::default_home_config_path();
+               fallback && std::filesystem::exists(*fallback)) {
+      path = fallback;
+    }
+    if (!path) return std::nullopt;
+    return home::load_home_config(*path);
+  } catch (const home::ConfigError& e) {
+    throw CliError(e.what(), 2);
+  }
+}
 
 HostOptions host_options(const RunOptions& o) {
   HostOptions h;
@@ -52,6 +85,19 @@ HostOptions host_options(const RunOptions& o) {
   h.in_memory_data = o.in_memory;
   h.data_dir = o.data_dir;
   h.mcu_tty = o.mcu_tty;
+  // --sim lives in the default home unless another world is named. With --mcu-tty the base
+  // is behind the serial link; a --world then gives it a floor plan to go places on.
+  if (!o.mcu_tty.empty()) {
+    h.world_file = o.world;
+  } else if (o.sim) {
+    h.world_file = o.world.empty() ? sim::default_world_file() : std::filesystem::path(o.world);
+    h.sim_speed = o.speed;
+    h.sim_seed = o.seed;
+    h.show = o.show;
+  }
+  // --sim without --camera looks at the demo photos scripts/setup fetched (none: no camera).
+  h.camera = o.camera.empty() && o.sim ? default_sim_camera() : o.camera;
+  h.home = home_options(o.mqtt, o.home_config);
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
     try {
@@ -69,6 +115,8 @@ std::unique_ptr<Host> open_host(const RunOptions& o,
   HostOptions h = host_options(o);
   try {
     return std::make_unique<Host>(std::move(h), std::move(write));
+  } catch (const sim::WorldError& e) {
+    throw CliError(std::string("cannot load the world: ") + e.what(), 2);
   } catch (const std::exception& e) {
     throw CliError(std::string("cannot open the personal data: ") + e.what() +
                        " (use --data-dir DIR, or --in-memory)",
@@ -198,6 +246,23 @@ void install_skill_platform_commands(CLI::App& root) {
   run->add_option("--mcu-tty", options->mcu_tty,
                   "Also drive the base through this serial tty: the MCU, or the --link path "
                   "of a running marvin-mcu-sim");
+  run->add_option("--world", options->world,
+                  "With --sim: live in this world file (default: examples/worlds/home.json); "
+                  "with --mcu-tty: the floor plan to go places on");
+  run->add_option("--speed", options->speed,
+                  "With --sim: simulated seconds per second (default 1; 10 runs 10x faster)")
+      ->check(CLI::Range(0.1, 1000.0));
+  run->add_option("--seed", options->seed, "With --sim: the simulation's random seed (default 1)");
+  run->add_option("--show", options->show,
+                  "With --sim: keep this PNG picture of the floor plan and the robot up to date");
+  run->add_option("--camera", options->camera,
+                  "The camera skills look through: device:/dev/video0, device:0, folder:DIR or "
+                  "video:FILE (--sim default: the demo photos of scripts/setup)");
+  run->add_option("--mqtt", options->mqtt,
+                  "Smart home: the home's MQTT broker HOST:PORT (no authentication)");
+  run->add_option("--home-config", options->home_config,
+                  "Smart home: the config file (default: $MARVIN_HOME_CONFIG, else "
+                  "~/.config/marvin/home.json when it exists)");
   add_skill_options(*run, *options);
   add_voice_run_options(*run, options->voice);
   run->callback([options] { run_sim(*options); });

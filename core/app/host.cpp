@@ -1,4 +1,5 @@
 #include "app/host.h"
+#include "app/sim_home.h"
 
 #include "devices/serial_body.h"
 
@@ -8,16 +9,20 @@
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
 #include <iostream>
+#include <map>
 #include <thread>
 
 #include "data/scheduler.h"
 #include "devices/serial_body.h"
 
+#include "app/home_link.h"
 #include "app/installed_skills.h"
+#include "home/home_service.h"
 #include "app/skill_reloader.h"
 #include "app/skill_watcher.h"
 #include "common/log.h"
 #include "store/installer.h"
+#include "vision/vision_eyes.h"
 #ifdef MARVIN_HAVE_LUA
 #include "scripting/lua_runtime.h"
 #endif
@@ -195,6 +200,12 @@ class MirroredBody : public devices::Body {
 
 }  // namespace
 
+std::string default_sim_camera() {
+  std::error_code ec;
+  const std::filesystem::path photos = MARVIN_SIM_CAMERA_DIR;
+  return std::filesystem::is_directory(photos, ec) ? "folder:" + photos.string() : "";
+}
+
 Host::Host(HostOptions options, std::function<void(std::string_view)> write_line)
     : options_(std::move(options)), console_(std::move(write_line)), body_(console_) {
   if (options_.fixed_now_ms) {
@@ -234,9 +245,28 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
       console_.line("[base: not connected on " + options_.mcu_tty + " after " +
                     std::to_string(kBaseWait.count()) + " s; still trying]");
     }
+    if (!options_.world_file.empty()) {
+      serial_navigation_ = std::make_unique<SerialNavigation>(options_.world_file, *serial);
+      services_.going_places = &serial_navigation_->navigator();
+    }
     serial_body_ = std::move(serial);
     mirrored_body_ = std::make_unique<MirroredBody>(body_, *serial_body_);
     services_.body = mirrored_body_.get();
+  } else if (!options_.world_file.empty()) {
+    SimHomeOptions sim;
+    sim.world_file = options_.world_file;
+    sim.speed = options_.sim_speed;
+    sim.seed = options_.sim_seed;
+    sim.show = options_.show;
+    sim_home_ = std::make_unique<SimHome>(sim, [this](std::string_view line) { console_.line(line); });
+    mirrored_body_ = std::make_unique<MirroredBody>(body_, sim_home_->body());
+    services_.body = mirrored_body_.get();
+    services_.going_places = &sim_home_->navigator();
+  }
+  if (!options_.camera.empty()) {
+    const auto data_dir = store_ ? store_->path().parent_path() : std::filesystem::temp_directory_path();
+    eyes_ = std::make_unique<vision::VisionEyes>(options_.camera, store_.get(), data_dir / "photos");
+    services_.eyes = eyes_.get();
   }
   services_.time_zone = options_.time_zone.empty() ? system_time_zone() : options_.time_zone;
   if (options_.fixed_now_ms) {
@@ -247,8 +277,10 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   }
   loop_ = std::make_unique<skills::HostLoop>(
       [this](std::string_view text) {
+        if (home_) home_->publish_activity("speaking");
         console_.line("Marvin: " + std::string(text));
         if (said_) said_(text);
+        if (home_) home_->publish_activity("listening");
       });
   registry_ = std::make_unique<skills::Registry>(services_);
 #ifdef MARVIN_HAVE_LUA
@@ -258,6 +290,7 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   services_.user = manager_.get();
   loop_->attach(*manager_, registry_->interpreter());
   reloader_ = std::make_unique<SkillReloader>(*registry_);
+  if (options_.home) start_home();
   // Skill timers (marvin.after) run on the loop, never while a long task runs.
   loop_->set_timers(skills::HostLoop::Timers{
       [this]() -> std::optional<std::int64_t> {
@@ -286,8 +319,13 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
 Host::~Host() {
   watcher_.reset();    // no reload requests from now on
   manager_.reset();    // joins a running task first
+  home_link_.reset();
+  home_.reset();       // says "offline" on the bus
   reminders_.reset();  // stops the scheduler's thread
   registry_.reset();  // then the skills go
+  serial_navigation_.reset();
+  mirrored_body_.reset();
+  sim_home_.reset();
 }
 
 void Host::add_runtime(std::unique_ptr<skills::SkillRuntime> runtime) {
@@ -305,6 +343,7 @@ void Host::start_scheduler() {
   reminders_->scheduler = std::make_unique<data::Scheduler>(
       reminders_->io, *store_, clock, [this](const data::Firing& firing) {
         reminders_->last_fired.store(firing.reminder.id);
+        publish_event(firing.missed ? "reminder_missed" : "reminder_fired", firing.reminder.title);
         loop_->say(firing.missed ? "You missed a reminder: " + firing.reminder.title
                                  : "Reminder: " + firing.reminder.title);
       });
@@ -322,6 +361,45 @@ void Host::start_scheduler() {
   reminders_->work.emplace(reminders_->io.get_executor());
   reminders_->running.store(true);
   reminders_->thread = std::thread([r = reminders_.get()] { r->io.run(); });
+}
+
+void Host::start_home() {
+  home_ = std::make_unique<home::HomeService>(*options_.home);
+  if (store_) {
+    std::map<std::string, std::string> aliases;
+    for (auto& [alias, device] : store_->device_aliases()) aliases[alias] = device;
+    home_->set_aliases(std::move(aliases));
+  }
+  if (options_.home->commands) {
+    // Only the documented topics reach here (marvin/<site>/command/say|utterance).
+    home_->on_command([this](const std::string& name, const std::string& payload) {
+      if (name == "say") loop_->say(payload);
+      if (name == "utterance") loop_->post(payload);
+    });
+  }
+  home_link_ = std::make_unique<HomeLink>(*home_);
+  services_.smarthome = home_link_.get();
+  home_->start();
+  // Wait for the broker once (what it retained: the devices), so the first request of a
+  // session finds them; the service keeps retrying in the background otherwise.
+  constexpr std::chrono::seconds kBrokerWait{3};
+  const auto& b = options_.home->broker;
+  const std::string where = b.host + ":" + std::to_string(b.port);
+  if (home_->settle(kBrokerWait)) {
+    console_.line("[home: " + std::to_string(home_->devices().size()) + " devices on " + where +
+                  "]");
+  } else {
+    console_.line("[home: broker " + where + " not reachable after " +
+                  std::to_string(kBrokerWait.count()) + " s; still trying]");
+  }
+}
+
+void Host::set_room_hook(std::function<std::string()> hook) {
+  if (home_) home_->set_room_hook(std::move(hook));
+}
+
+void Host::publish_event(const std::string& event_type, const std::string& text) {
+  if (home_) home_->publish_event(event_type, text);
 }
 
 namespace {

@@ -17,6 +17,8 @@
 #include <vector>
 
 #include "devices/body.h"
+#include "home/config.h"
+#include "home/home_service.h"
 #include "skills/host_loop.h"
 #include "data/clock.h"
 #include "data/sqlite_store.h"
@@ -26,8 +28,11 @@
 
 namespace marvin::app {
 
+class SerialNavigation;
+class SimHome;
 class SkillReloader;
 class SkillWatcher;
+class HomeLink;
 
 // Serialises lines written by several threads (the loop, a long task, the body).
 class Console {
@@ -76,7 +81,25 @@ struct HostOptions {
   // The store's installed skills (app/installed_skills.h), loaded after `skills_dirs` when
   // the directory exists; no error when it does not. Empty: none.
   std::filesystem::path installed_skills_dir;
+  // The simulated home (app/sim_home.h): with a world file and no mcu_tty, the body is the
+  // simulated robot in that world and skills can go places; with mcu_tty, the world's floor
+  // plan and start pose let skills go places on the serial base by dead reckoning.
+  // Empty: the console body only, and no going places.
+  std::filesystem::path world_file;
+  double sim_speed = 1;       // simulated seconds per second
+  std::uint64_t sim_seed = 1;
+  std::filesystem::path show;  // keep this PNG of the floor plan up to date
+  // The camera skills look through (Robot API 1.2; vision/cameras.h: "folder:DIR",
+  // "video:FILE", "device:/dev/video0"). Empty: no camera (vision_* are unavailable).
+  std::string camera;
+  // Smart home over the home's MQTT broker (core/home): devices for the skills, Marvin's
+  // activity and events on the bus. nullopt: no smart home.
+  std::optional<home::HomeConfig> home;
 };
+
+// The folder camera `marvin run --sim` uses when no --camera is given: the demo photos
+// scripts/setup fetched (empty if they are not there).
+std::string default_sim_camera();
 
 // Where this build put its built-in skills (<build>/skills).
 std::filesystem::path builtin_skills_dir();
@@ -117,6 +140,8 @@ class Host {
   skills::Manager& manager() { return *manager_; }
   skills::HostLoop& loop() { return *loop_; }
   devices::Body& body() { return *services_.body; }
+  // The simulated home, with HostOptions::world_file; else nullptr.
+  SimHome* sim_home() { return sim_home_.get(); }
 
   // For a voice front end (app/voice_host.h); set before loop().run(). `said` gets every
   // sentence Marvin says, after the console showed it, on the thread that said it.
@@ -127,16 +152,26 @@ class Host {
   // console body); `body` must outlive its use. Before load(), or while nothing runs.
   void set_body(devices::Body& body) { services_.body = &body; }
 
+  // With a smart home: the service (else null), where the robot is (the navigation's hook;
+  // the config's room when unset or it answers ""), and events for the bus
+  // ("intruder_alert", "call", ...; reminders are published by the host itself).
+  home::HomeService* home() { return home_.get(); }
+  void set_room_hook(std::function<std::string()> hook);
+  void publish_event(const std::string& event_type, const std::string& text);
+
  private:
   HostOptions options_;
   Console console_;
   ConsoleBody body_;
   std::unique_ptr<devices::Body> serial_body_;  // with mcu_tty: the base over the serial link
-  std::unique_ptr<devices::Body> mirrored_body_;  // with mcu_tty: console + serial
+  std::unique_ptr<devices::Body> mirrored_body_;  // with mcu_tty or a world: console + it
+  std::unique_ptr<SimHome> sim_home_;             // with a world file
+  std::unique_ptr<SerialNavigation> serial_navigation_;  // with mcu_tty and a world file
   std::unique_ptr<skills::InMemoryPersonalData> memory_;
   std::unique_ptr<data::SqliteStore> store_;
   std::unique_ptr<data::Clock> clock_;
   std::unique_ptr<data::PersonalData> data_;  // notifies the scheduler of reminder changes
+  std::unique_ptr<skills::Eyes> eyes_;        // with a camera
   struct Reminders;                           // the Scheduler and its io_context thread
   std::unique_ptr<Reminders> reminders_;
   skills::HostServices services_;
@@ -147,6 +182,9 @@ class Host {
   std::vector<std::filesystem::path> watched_skills_dirs() const;  // skills_dirs + installed
   std::unique_ptr<SkillReloader> reloader_;
   std::atomic<bool> reload_requested_{false};
+  std::unique_ptr<home::HomeService> home_;
+  std::unique_ptr<HomeLink> home_link_;
+  void start_home();
   std::unique_ptr<SkillWatcher> watcher_;  // stopped first (declared last)
 };
 

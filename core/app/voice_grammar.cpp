@@ -120,6 +120,11 @@ const std::vector<std::string>& everyday_tasks() {
   return tasks;
 }
 
+void add_place_names(navigation::GoingPlaces* places, SlotValues& values) {
+  if (!places) return;
+  for (const std::string& name : places->place_names()) values.text_phrases.push_back(name);
+}
+
 SlotValues current_slot_values(data::PersonalData& data) {
   SlotValues values;
   try {

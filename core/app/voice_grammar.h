@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "data/personal_data.h"
+#include "navigation/going_places.h"
 #include "perception/command_grammar.h"
 #include "skills/manifest.h"
 #include "skills/registry.h"
@@ -64,6 +65,10 @@ const std::vector<std::string>& everyday_tasks();
 
 // Reads contacts and reminders now; empty (and logged) when personal data is unavailable.
 SlotValues current_slot_values(data::PersonalData& data);
+
+// Adds the rooms, places and people the robot can go to ("the kitchen", "kitchen", "Anna"),
+// so "go to the kitchen" is heard; no-op without a map (`places` null).
+void add_place_names(navigation::GoingPlaces* places, SlotValues& values);
 
 using KnownWord = std::function<bool(std::string_view)>;
 

@@ -108,6 +108,7 @@ VoiceHost::VoiceHost(Host& host, const VoiceHostOptions& options)
   known_ = [this](std::string_view word) { return recognizer_.knows_word(word); };
   phrases_ = skill_phrases(host.registry());
   if (data_) values_ = current_slot_values(*data_);
+  add_place_names(host.registry().services().going_places, values_);
   const perception::GrammarResult grammar = command_grammar(phrases_, values_, known_, wake_word_->keyword());
   recognizer_.set_grammar(grammar.jsgf);
   log(LogLevel::kInfo, "voice", "command grammar: " + std::to_string(grammar.templates_used) +
@@ -193,6 +194,7 @@ void VoiceHost::refresh_grammar(bool force) {
     phrases = phrases_;
   }
   SlotValues values = data_ ? current_slot_values(*data_) : SlotValues{};
+  add_place_names(host_.registry().services().going_places, values);
   if (!force && !skills_changed && values == values_) return;
   values_ = std::move(values);
   try {

@@ -74,6 +74,13 @@ ALTER TABLE reminders ADD COLUMN last_fired_utc_ms INTEGER;
 CREATE INDEX reminders_due ON reminders(state, next_fire_utc_ms);
 CREATE INDEX contact_aliases_alias ON contact_aliases(alias COLLATE NOCASE);
 )sql",
+    // 3 -> 4: the owner's names for smart-home devices ("the big lamp" -> a device name or
+    // id as discovery reports it; core/home applies them).
+    R"sql(
+CREATE TABLE device_aliases(
+  alias TEXT NOT NULL PRIMARY KEY COLLATE NOCASE CHECK (alias <> ''),
+  device TEXT NOT NULL CHECK (device <> '')) WITHOUT ROWID;
+)sql",
 };
 
 }  // namespace

@@ -19,7 +19,7 @@
 
 namespace marvin::data {
 
-inline constexpr int kSchemaVersion = 3;
+inline constexpr int kSchemaVersion = 4;
 inline constexpr std::int32_t kApplicationId = 0x4d52564e;  // "MRVN"
 
 // Migrates `db` (already open, at version `from`) to `to` <= kSchemaVersion, one

@@ -585,6 +585,31 @@ bool SqliteStore::storage_remove(std::string_view skill_id, std::string_view key
   return sqlite3_changes(db_) > 0;
 }
 
+void SqliteStore::set_device_alias(std::string_view alias, std::string_view device) {
+  if (alias.empty()) throw std::invalid_argument("alias: a device alias must not be empty");
+  if (device.empty()) throw std::invalid_argument("device: name the device the alias means");
+  std::lock_guard lock(mutex_);
+  Statement s(db_, path_text_,
+              "INSERT INTO device_aliases(alias, device) VALUES(?,?) "
+              "ON CONFLICT(alias) DO UPDATE SET device = excluded.device");
+  s.bind(1, alias).bind(2, device).run();
+}
+
+bool SqliteStore::remove_device_alias(std::string_view alias) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, path_text_, "DELETE FROM device_aliases WHERE alias = ?");
+  s.bind(1, alias).run();
+  return sqlite3_changes(db_) > 0;
+}
+
+std::vector<std::pair<std::string, std::string>> SqliteStore::device_aliases() {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, path_text_, "SELECT alias, device FROM device_aliases ORDER BY alias");
+  std::vector<std::pair<std::string, std::string>> out;
+  while (s.step()) out.emplace_back(s.text(0), s.text(1));
+  return out;
+}
+
 void SqliteStore::log_event(std::string_view kind, std::string_view source, std::string_view message) {
   if (kind.empty()) throw std::runtime_error("kind: an event needs a kind");
   std::lock_guard lock(mutex_);

@@ -133,6 +133,13 @@ class SqliteStore final : public PersonalData {
   };
   std::size_t advance_reminders(const std::vector<Advance>& advances);
 
+  // --- smart-home device aliases ("the big lamp" -> "living room lamp") -------------
+  // Alias (compared without case) -> the device's name or id. Setting an existing alias
+  // replaces its device. Empty alias or device: std::invalid_argument, nothing stored.
+  void set_device_alias(std::string_view alias, std::string_view device);
+  bool remove_device_alias(std::string_view alias);  // false if there was none
+  std::vector<std::pair<std::string, std::string>> device_aliases();  // by alias
+
   // --- people and faces ---------------------------------------------------------
   std::int64_t add_person(const Person& person);
   // Removes the person and their embeddings; false if there was none.

@@ -190,6 +190,55 @@ marvin_status api_tilt_head(marvin_host* host, int32_t degrees) {
   });
 }
 
+marvin_status api_go_to(marvin_host* host, const char* place) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "motion"));
+    MARVIN_TRY(need_text(c, place, "place"));
+    MARVIN_TRY(need_service(c, c.services().going_places, "map to go places with"));
+    if (c.cancelled()) return fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
+    navigation::GoingPlaces& going = *c.services().going_places;
+    const double scale = going.time_scale() > 0 ? going.time_scale() : 1.0;
+    // Between control steps the navigator waits here, so "stop" (cancel()) wakes it at once
+    // and it stops the wheels before returning.
+    navigation::GoResult r = going.go_to(place, [&](std::chrono::milliseconds robot_ms) {
+      auto wall = static_cast<std::uint32_t>(std::max(1.0, static_cast<double>(robot_ms.count()) / scale));
+      return c.wait_cancelled_for(wall);
+    });
+    switch (r.outcome) {
+      case navigation::GoResult::Outcome::kArrived:
+        return MARVIN_OK;
+      case navigation::GoResult::Outcome::kUnknownPlace:
+        return fail(c, MARVIN_ERR_NOT_FOUND, r.reason);
+      case navigation::GoResult::Outcome::kCancelled:
+        going.stop();
+        return fail(c, MARVIN_ERR_CANCELLED, "the motion was stopped");
+      case navigation::GoResult::Outcome::kGaveUp:
+        break;
+    }
+    return fail(c, MARVIN_ERR_UNAVAILABLE, r.reason);
+  });
+}
+
+marvin_status api_go_stop(marvin_host* host) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "motion"));
+    if (c.services().going_places) c.services().going_places->stop();
+    if (c.services().body) c.services().body->stop();
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_where_am_i(marvin_host* host, marvin_text_out* room) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "sensors"));
+    MARVIN_TRY(need_out(c, room));
+    MARVIN_TRY(need_service(c, c.services().going_places, "map to know its room from"));
+    std::optional<std::string> name = c.services().going_places->where_am_i();
+    if (!name) return fail(c, MARVIN_ERR_NOT_FOUND, "the robot is between rooms");
+    return write_text(room, *name);
+  });
+}
+
 marvin_status api_obstacle_scan(marvin_host* host, marvin_scan_point* points, size_t capacity,
                                 size_t* count) {
   return guarded(host, [&](SkillContext& c) {
@@ -462,18 +511,164 @@ marvin_status unavailable(SkillContext& c, const char* permission, const char* w
   return fail(c, MARVIN_ERR_UNAVAILABLE, std::string(what) + " is not available on this robot yet");
 }
 
-marvin_status api_vision_find_object(marvin_host* host, const char*, marvin_text_out*) {
-  return guarded(host, [&](SkillContext& c) { return unavailable(c, "vision", "vision"); });
-}
 marvin_status api_vision_who_is_there(marvin_host* host, marvin_text_out*) {
   return guarded(host, [&](SkillContext& c) { return unavailable(c, "vision", "vision"); });
 }
 marvin_status api_phone_call(marvin_host* host, const char*) {
   return guarded(host, [&](SkillContext& c) { return unavailable(c, "phone", "the phone"); });
 }
-marvin_status api_smarthome_set(marvin_host* host, const char*, const char*) {
-  return guarded(
-      host, [&](SkillContext& c) { return unavailable(c, "smarthome", "smart home control"); });
+marvin_status api_smarthome_set(marvin_host* host, const char* device, const char* state) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "smarthome"));
+    MARVIN_TRY(need_text(c, device, "device"));
+    MARVIN_TRY(need_text(c, state, "state"));
+    MARVIN_TRY(need_service(c, c.services().smarthome, "smart home connection configured"));
+    // "on" and "off" are short for {"on": true} and {"on": false}.
+    json wanted;
+    if (std::string_view(state) == "on") {
+      wanted = json{{"on", true}};
+    } else if (std::string_view(state) == "off") {
+      wanted = json{{"on", false}};
+    } else {
+      marvin_status status = MARVIN_OK;
+      wanted = parse_json_arg(c, state, "state", &status);
+      if (status != MARVIN_OK) return status;
+    }
+    if (!wanted.is_object() || wanted.empty()) {
+      return fail(c, MARVIN_ERR_INVALID,
+                  "state must be \"on\", \"off\" or an object with \"on\" and/or "
+                  "\"brightness\"");
+    }
+    for (auto it = wanted.begin(); it != wanted.end(); ++it) {
+      if (it.key() == "on" && it->is_boolean()) continue;
+      if (it.key() == "brightness" && it->is_number_integer() && it->get<int>() >= 0 &&
+          it->get<int>() <= 100) {
+        continue;
+      }
+      return fail(c, MARVIN_ERR_INVALID,
+                  "state." + it.key() + ": expected \"on\": true|false or \"brightness\": "
+                  "0..100, got " + it->dump());
+    }
+    SmartHome::Reply reply = c.services().smarthome->set(device, wanted);
+    switch (reply.result) {
+      case SmartHome::Result::kDone:
+        return MARVIN_OK;
+      case SmartHome::Result::kNotFound:
+        return fail(c, MARVIN_ERR_NOT_FOUND, reply.sentence);
+      case SmartHome::Result::kInvalid:
+        return fail(c, MARVIN_ERR_INVALID, reply.sentence);
+      case SmartHome::Result::kUnavailable:
+        return fail(c, MARVIN_ERR_UNAVAILABLE, reply.sentence);
+    }
+    return fail(c, MARVIN_ERR_INTERNAL, "unknown smart-home result");
+  });
+}
+
+marvin_status api_smarthome_devices(marvin_host* host, marvin_text_out* devices_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "smarthome"));
+    MARVIN_TRY(need_out(c, devices_json));
+    MARVIN_TRY(need_service(c, c.services().smarthome, "smart home connection configured"));
+    return write_json(c, devices_json, c.services().smarthome->devices());
+  });
+}
+
+// --- since API 1.2: seeing -------------------------------------------------------------
+
+template <class F>
+marvin_status with_eyes(SkillContext& c, const char* permission, F&& body) {
+  MARVIN_TRY(need(c, permission));
+  MARVIN_TRY(need_service(c, c.services().eyes, "camera"));
+  try {
+    return body(*c.services().eyes);
+  } catch (const EyesUnavailable& e) {
+    return fail(c, MARVIN_ERR_UNAVAILABLE, e.what());
+  } catch (const NoSingleFace& e) {
+    return fail(c, e.faces() == 0 ? MARVIN_ERR_NOT_FOUND : MARVIN_ERR_INVALID, e.what());
+  }
+}
+
+marvin_status api_vision_look(marvin_host* host, marvin_text_out* seen_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_out(c, seen_json));
+    return with_eyes(c, "camera", [&](Eyes& eyes) {
+      marvin_status s = write_text(seen_json, eyes.look_json());
+      if (s == MARVIN_ERR_TRUNCATED) c.last_error = "what the camera sees did not fit the buffer";
+      return s;
+    });
+  });
+}
+
+marvin_status api_vision_capture_photo(marvin_host* host, marvin_text_out* photo_path) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_out(c, photo_path));
+    return with_eyes(c, "camera", [&](Eyes& eyes) {
+      return write_text(photo_path, eyes.capture_photo(c.skill_id()));
+    });
+  });
+}
+
+marvin_status api_vision_enroll_face(marvin_host* host, const char* name, uint32_t frames,
+                                     marvin_text_out* result_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, name, "name"));
+    if (*name == '\0') return fail(c, MARVIN_ERR_INVALID, "name is empty");
+    if (frames < 1 || frames > 20) {
+      return fail(c, MARVIN_ERR_INVALID,
+                  "frames is " + std::to_string(frames) + ", expected 1 to 20");
+    }
+    return with_eyes(c, "faces", [&](Eyes& eyes) {
+      const int used = eyes.enroll_face(name, static_cast<int>(frames), "skill:" + c.skill_id());
+      if (!result_json) return MARVIN_OK;
+      return write_text(result_json, json{{"name", name}, {"frames_used", used}}.dump());
+    });
+  });
+}
+
+marvin_status api_vision_forget_face(marvin_host* host, const char* name) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, name, "name"));
+    return with_eyes(c, "faces", [&](Eyes& eyes) {
+      if (!eyes.forget_face(name, "skill:" + c.skill_id())) {
+        return fail(c, MARVIN_ERR_NOT_FOUND, std::string("nobody called ") + name +
+                                                 " is known by face");
+      }
+      return MARVIN_OK;
+    });
+  });
+}
+
+marvin_status api_vision_teach_object(marvin_host* host, const char* name) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, name, "name"));
+    if (*name == '\0') return fail(c, MARVIN_ERR_INVALID, "name is empty");
+    return with_eyes(c, "camera", [&](Eyes& eyes) {
+      try {
+        eyes.teach_object(name);
+      } catch (const std::invalid_argument& e) {
+        return fail(c, MARVIN_ERR_INVALID, e.what());
+      }
+      return MARVIN_OK;
+    });
+  });
+}
+
+marvin_status api_vision_find_object(marvin_host* host, const char* name,
+                                     marvin_text_out* result_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, name, "object_name"));
+    MARVIN_TRY(need_out(c, result_json));
+    // "vision" is the 1.0 name of this capability; "camera" the 1.2 one.
+    const char* permission = c.has_permission("vision") ? "vision" : "camera";
+    return with_eyes(c, permission, [&](Eyes& eyes) {
+      const std::string found = eyes.find_object_json(name);
+      if (found.empty()) {
+        return fail(c, MARVIN_ERR_NOT_FOUND,
+                    std::string("nothing called ") + name + " was shown to the robot");
+      }
+      return write_text(result_json, found);
+    });
+  });
 }
 
 }  // namespace
@@ -556,6 +751,15 @@ const marvin_robot_api* host_robot_api() {
     a.schedule_snooze = api_schedule_snooze;
     a.schedule_done = api_schedule_done;
     a.schedule_last_fired = api_schedule_last_fired;
+    a.vision_look = api_vision_look;
+    a.vision_capture_photo = api_vision_capture_photo;
+    a.vision_enroll_face = api_vision_enroll_face;
+    a.vision_forget_face = api_vision_forget_face;
+    a.vision_teach_object = api_vision_teach_object;
+    a.go_to = api_go_to;
+    a.go_stop = api_go_stop;
+    a.where_am_i = api_where_am_i;
+    a.smarthome_devices = api_smarthome_devices;
     return a;
   }();
   return &api;

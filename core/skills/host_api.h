@@ -5,8 +5,10 @@
 // the manifest grants, whose storage keys to use, which task to cancel. Calls the
 // manifest does not grant fail with MARVIN_ERR_PERMISSION and a sentence naming the
 // permission and the skill. Schedules, contacts, people and storage are served from
-// PersonalData; light and motion go to the Body; say/ask to the User. Vision, phone and
-// smart home answer MARVIN_ERR_UNAVAILABLE until their issues land.
+// PersonalData; light and motion go to the Body; say/ask to the User; the camera to Eyes;
+// going places to the navigator; smart home to the SmartHome service.
+// vision_find_object/who_is_there (1.0 placeholders) and phone answer
+// MARVIN_ERR_UNAVAILABLE until their issues land.
 //
 // Threading: a context is used by the one thread running its skill, except cancel(),
 // which any thread may call.
@@ -25,6 +27,9 @@
 
 #include "data/personal_data.h"
 #include "devices/body.h"
+#include "navigation/going_places.h"
+#include "skills/eyes.h"
+#include "skills/smart_home.h"
 #include "skills/user.h"
 
 namespace marvin::skills {
@@ -33,6 +38,9 @@ namespace marvin::skills {
 struct HostServices {
   data::PersonalData* data = nullptr;
   devices::Body* body = nullptr;
+  // Going places (go_to, go_stop, where_am_i): the navigator on the floor plan; null on a
+  // robot without a map (those calls answer MARVIN_ERR_UNAVAILABLE).
+  navigation::GoingPlaces* going_places = nullptr;
   User* user = nullptr;
   // Now, milliseconds since the Unix epoch (UTC). Default: the system clock.
   std::function<std::int64_t()> now_ms;
@@ -43,6 +51,12 @@ struct HostServices {
   // The id of the reminder the host announced most recently, if any (schedule_last_fired).
   // Called from skill threads: it must be thread-safe.
   std::function<std::optional<std::int64_t>()> last_fired_reminder;
+  // The camera (API 1.2); null: vision_* answer MARVIN_ERR_UNAVAILABLE. Called from skill
+  // threads: it must be thread-safe.
+  Eyes* eyes = nullptr;
+  // Smart-home devices over the home's broker (smarthome_*); null: none configured.
+  // Called from skill threads: it must be thread-safe.
+  SmartHome* smarthome = nullptr;
 };
 
 // The system clock in milliseconds since the Unix epoch.

@@ -2,8 +2,13 @@
 // simulated room, attached to a pseudo-terminal, so the host drives it through a real tty
 // exactly as it drives the board.
 //
-//   marvin-mcu-sim --room ROOM.json [--link PATH] [--state FILE] [--deadman-ms N]
+//   marvin-mcu-sim (--room ROOM.json | --world WORLD.json [--seed N]) [--link PATH]
+//                  [--state FILE] [--deadman-ms N]
 //
+// --world puts the body in a simulated home (sim/world.h, examples/worlds/home.json): the
+// world's base (acceleration, seeded odometry noise) and its HC-SR04 model (cone, noise,
+// dropouts) answer the firmware core's commands and pings; --room keeps the older
+// corridor model (firmware/sim/room.h).
 // --link makes PATH a symlink to the pty's slave (replaced atomically, so a restarted
 // simulator reappears at the same path); the slave's name is also printed on stdout.
 // --state writes the body's pose as JSON every 100 ms (for tests and curious users).
@@ -20,11 +25,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
 #include "core/marvin_core.h"
 #include "room.h"
+#include "sim/simulator.h"
 
 namespace {
 
@@ -32,6 +39,7 @@ volatile std::sig_atomic_t g_quit = 0;
 void on_signal(int) { g_quit = 1; }
 
 struct Sim {
+  std::unique_ptr<marvin::sim::Simulator> world;  // with --world; else the room below
   marvin::mcusim::Room room;
   marvin::mcusim::RobotPose pose;
   int master = -1;
@@ -46,12 +54,21 @@ void hal_set_motor(void* ctx, std::uint8_t side, std::uint8_t backward, std::uin
   auto* s = static_cast<Sim*>(ctx);
   s->speed[side & 1] = speed;
   s->backward[side & 1] = backward;
+  if (s->world) s->world->set_motor(side & 1, backward != 0, speed);
 }
-void hal_set_head(void* ctx, std::int8_t degrees) { static_cast<Sim*>(ctx)->head_deg = degrees; }
+void hal_set_head(void* ctx, std::int8_t degrees) {
+  auto* s = static_cast<Sim*>(ctx);
+  s->head_deg = degrees;
+  if (s->world) s->world->set_head(degrees);
+}
 void hal_set_sonar_servo(void* ctx, std::uint8_t degrees) {
   static_cast<Sim*>(ctx)->sonar_deg = degrees;
 }
-void hal_set_leds(void* ctx, std::uint8_t bits) { static_cast<Sim*>(ctx)->leds = bits; }
+void hal_set_leds(void* ctx, std::uint8_t bits) {
+  auto* s = static_cast<Sim*>(ctx);
+  s->leds = bits;
+  if (s->world) s->world->set_leds(bits);
+}
 void hal_send(void* ctx, const std::uint8_t* bytes, std::size_t n) {
   auto* s = static_cast<Sim*>(ctx);
   // Like a UART nobody listens to: what the pty cannot take is lost.
@@ -72,7 +89,9 @@ void write_state(const Sim& s, const std::string& path, std::uint32_t now_ms) {
     std::ofstream out(tmp, std::ios::trunc);
     out << "{\"x\": " << s.pose.x << ", \"y\": " << s.pose.y
         << ", \"heading_deg\": " << s.pose.heading_deg
-        << ", \"clearance_m\": " << marvin::mcusim::clearance_m(s.room, s.pose)
+        << ", \"clearance_m\": "
+        << (s.world ? s.world->clearance_m(s.world->pose())
+                    : marvin::mcusim::clearance_m(s.room, s.pose))
         << ", \"left\": " << (s.backward[0] ? -1 : 1) * s.speed[0]
         << ", \"right\": " << (s.backward[1] ? -1 : 1) * s.speed[1]
         << ", \"head_deg\": " << s.head_deg << ", \"leds\": " << s.leds
@@ -113,13 +132,15 @@ void make_link(const std::string& target, const std::string& link) {
 void usage() {
   std::fprintf(
       stderr,
-      "usage: marvin-mcu-sim --room ROOM.json [--link PATH] [--state FILE] [--deadman-ms N]\n");
+      "usage: marvin-mcu-sim (--room ROOM.json | --world WORLD.json [--seed N]) [--link PATH]\n"
+      "                      [--state FILE] [--deadman-ms N]\n");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string room_path, link_path, state_path;
+  std::string room_path, world_path, link_path, state_path;
+  std::uint64_t seed = 1;
   mv_config cfg;
   mv_config_defaults(&cfg);
   for (int i = 1; i < argc; ++i) {
@@ -133,6 +154,10 @@ int main(int argc, char** argv) {
     };
     if (a == "--room") {
       room_path = value();
+    } else if (a == "--world") {
+      world_path = value();
+    } else if (a == "--seed") {
+      seed = std::stoull(value());
     } else if (a == "--link") {
       link_path = value();
     } else if (a == "--state") {
@@ -144,14 +169,28 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (room_path.empty()) {
+  if (room_path.empty() == world_path.empty()) {
     usage();
     return 2;
   }
   try {
     Sim sim;
-    sim.room = marvin::mcusim::load_room(room_path);
-    sim.pose = sim.room.start;
+    if (!world_path.empty()) {
+      marvin::sim::SimOptions options;
+      options.seed = seed;
+      sim.world = std::make_unique<marvin::sim::Simulator>(marvin::sim::load_world(world_path),
+                                                           options);
+      sim.world->set_sweep(0, 0, 0, 1);  // the firmware core schedules the pings itself
+      sim.world->on_collision([&sim](const marvin::navigation::Pose& p) {
+        ++sim.collisions;
+        std::fprintf(stderr, "marvin-mcu-sim: collision at (%.2f, %.2f)\n", p.x, p.y);
+      });
+      const auto& p = sim.world->pose();
+      sim.pose = {p.x, p.y, p.heading * 180.0 / marvin::navigation::kPi};
+    } else {
+      sim.room = marvin::mcusim::load_room(room_path);
+      sim.pose = sim.room.start;
+    }
 
     std::string slave;
     int slave_fd = -1;
@@ -189,7 +228,12 @@ int main(int argc, char** argv) {
         rx_active = false;
       }
       // The body moves with the wheel speeds the core set; a wall stops it (a collision).
-      if (now != last_ms) {
+      if (now != last_ms && sim.world) {
+        sim.world->step((now - last_ms) / 1000.0);
+        const auto& truth = sim.world->pose();
+        sim.pose = {truth.x, truth.y, truth.heading * 180.0 / marvin::navigation::kPi};
+        last_ms = now;
+      } else if (now != last_ms) {
         double dt = (now - last_ms) / 1000.0;
         bool moved =
             marvin::mcusim::step_body(sim.room, sim.pose, wheel_m_s(sim, 0), wheel_m_s(sim, 1), dt);
@@ -205,8 +249,14 @@ int main(int argc, char** argv) {
       mv_core_tick(&core, now);
       std::uint8_t angle;
       if (mv_core_ping_due(&core, now, &angle)) {
-        double d = marvin::mcusim::sonar_distance_m(sim.room, sim.pose, angle);
-        mv_core_echo(&core, marvin::mcusim::echo_us_for(d), now);
+        if (sim.world) {
+          const marvin::sim::SonarSample reading = sim.world->measure(angle);
+          mv_core_echo(&core, reading.echo ? marvin::mcusim::echo_us_for(reading.distance_m) : 0,
+                       now);
+        } else {
+          double d = marvin::mcusim::sonar_distance_m(sim.room, sim.pose, angle);
+          mv_core_echo(&core, marvin::mcusim::echo_us_for(d), now);
+        }
       }
       if (now - last_state_ms >= 100) {
         write_state(sim, state_path, now);

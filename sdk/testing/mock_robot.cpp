@@ -1,6 +1,7 @@
 #include "marvin/testing/mock_robot.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <limits>
 
 #include "mock_robot_impl.h"
@@ -17,6 +18,9 @@ MockRobot::Impl::Impl(std::string id, std::vector<std::string> permissions)
   services.time_zone = "UTC";
   services.wait_for_motion = false;
   services.last_fired_reminder = [this] { return last_fired; };
+  services.going_places = this;
+  home.actions = &actions;
+  services.smarthome = &home;
   context = std::make_unique<skills::SkillContext>(skill_id, std::move(permissions), services);
 }
 
@@ -45,6 +49,47 @@ void MockRobot::Impl::set_light(devices::Light light) {
   actions.push_back(std::string("light ") + devices::to_string(light));
 }
 
+namespace {
+// Lower case without a leading "the ": how the robot's map matches names.
+std::string place_key(std::string_view name) {
+  std::string s;
+  for (char c : name) s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (s.rfind("the ", 0) == 0) s.erase(0, 4);
+  return s;
+}
+}  // namespace
+
+navigation::GoResult MockRobot::Impl::go_to(std::string_view target,
+                                            const navigation::WaitFn& wait) {
+  actions.push_back("go_to " + std::string(target));
+  navigation::GoResult r;
+  r.target = std::string(target);
+  if (wait(std::chrono::milliseconds(0))) {
+    r.outcome = navigation::GoResult::Outcome::kCancelled;
+    return r;
+  }
+  for (const auto& [name, reason] : blocked) {
+    if (place_key(name) == place_key(target)) {
+      r.outcome = navigation::GoResult::Outcome::kGaveUp;
+      r.reason = reason;
+      return r;
+    }
+  }
+  for (const auto& [name, in_room] : places) {
+    if (place_key(name) == place_key(target)) {
+      room = in_room;
+      return r;
+    }
+  }
+  r.outcome = navigation::GoResult::Outcome::kUnknownPlace;
+  r.reason = "I don't know where " + std::string(target) + " is";
+  return r;
+}
+std::optional<std::string> MockRobot::Impl::where_am_i() {
+  if (room.empty()) return std::nullopt;
+  return room;
+}
+
 void MockRobot::Impl::say(std::string_view text) { said.emplace_back(text); }
 
 std::optional<std::string> MockRobot::Impl::ask(std::string_view question) {
@@ -54,6 +99,66 @@ std::optional<std::string> MockRobot::Impl::ask(std::string_view question) {
   std::string answer = std::move(answers.front());
   answers.pop_front();
   return answer;
+}
+
+nlohmann::json FakeHome::devices() {
+  return nlohmann::json{{"connected", reachable}, {"room", room}, {"devices", list}};
+}
+
+skills::SmartHome::Reply FakeHome::set(const std::string& device, const nlohmann::json& state) {
+  Reply reply;
+  nlohmann::json* found = nullptr;
+  for (nlohmann::json& d : list) {
+    if (d["id"] == device || d["name"] == device) found = &d;
+  }
+  if (!found) {
+    reply.result = Result::kNotFound;
+    reply.sentence = "there is no device \"" + device + "\"";
+    return reply;
+  }
+  const std::string id = (*found)["id"].get<std::string>();
+  if (!reachable) {
+    reply.result = Result::kUnavailable;
+    reply.sentence = "the home's broker is unreachable";
+    return reply;
+  }
+  actions->push_back("smarthome_set " + id + " " + state.dump());
+  if (std::find(silent.begin(), silent.end(), id) != silent.end()) {
+    reply.result = Result::kUnavailable;
+    reply.sentence = "the " + (*found)["name"].get<std::string>() + " did not answer";
+    reply.device = *found;
+    return reply;
+  }
+  if (state.contains("on")) (*found)["on"] = state["on"];
+  if (state.contains("brightness")) (*found)["brightness"] = state["brightness"];
+  reply.device = *found;
+  return reply;
+}
+
+void MockRobot::add_device(const std::string& device_json) {
+  nlohmann::json d = nlohmann::json::parse(device_json);
+  for (const char* key : {"room", "type"}) {
+    if (!d.contains(key)) d[key] = std::string(key) == "type" ? "light" : "";
+  }
+  if (!d.contains("id")) d["id"] = d["name"];
+  if (!d.contains("dimmable")) d["dimmable"] = false;
+  if (!d.contains("aliases")) d["aliases"] = nlohmann::json::array();
+  if (!d.contains("available")) d["available"] = true;
+  if (!d.contains("on")) d["on"] = false;
+  if (!d.contains("brightness")) d["brightness"] = 100;
+  impl_->home.list.push_back(std::move(d));
+}
+void MockRobot::set_device_answers(const std::string& id, bool answers) {
+  auto& silent = impl_->home.silent;
+  silent.erase(std::remove(silent.begin(), silent.end(), id), silent.end());
+  if (!answers) silent.push_back(id);
+}
+void MockRobot::set_broker_reachable(bool reachable) { impl_->home.reachable = reachable; }
+std::optional<std::string> MockRobot::device(const std::string& id) const {
+  for (const nlohmann::json& d : impl_->home.list) {
+    if (d["id"] == id) return d.dump();
+  }
+  return std::nullopt;
 }
 
 MockRobot::MockRobot(std::string skill_id, std::vector<std::string> permissions)
@@ -73,6 +178,17 @@ void MockRobot::set_time_zone(std::string iana_name) {
 }
 void MockRobot::set_scan(std::vector<marvin_scan_point> points) { impl_->scan = std::move(points); }
 void MockRobot::cancel() { impl_->context->cancel(); }
+void MockRobot::add_place(std::string name, std::string room) {
+  impl_->places.emplace_back(std::move(name), std::move(room));
+}
+void MockRobot::block_place(std::string name, std::string reason) {
+  impl_->blocked.emplace_back(std::move(name), std::move(reason));
+}
+void MockRobot::set_room(std::string room) {
+  impl_->home.room = room;
+  impl_->room = std::move(room);
+}
+const std::string& MockRobot::room() const { return impl_->room; }
 
 std::int64_t MockRobot::add_contact(const std::string& name, std::vector<std::string> aliases,
                                     std::vector<std::string> phone_numbers) {
@@ -89,6 +205,16 @@ std::int64_t MockRobot::add_reminder(const std::string& title, const std::string
   r.created_by = "user";
   return impl_->data.add_reminder(r);
 }
+
+void MockRobot::set_camera_view(const std::string& seen_json) {
+  impl_->eyes.set_view(seen_json);
+  impl_->services.eyes = &impl_->eyes;
+}
+void MockRobot::set_camera_failure(std::string message) {
+  impl_->eyes.set_failure(std::move(message));
+  impl_->services.eyes = &impl_->eyes;
+}
+std::vector<std::string> MockRobot::enrolled_faces() const { return impl_->eyes.enrolled(); }
 
 void MockRobot::set_last_fired(std::optional<std::int64_t> reminder_id) {
   impl_->last_fired = reminder_id;

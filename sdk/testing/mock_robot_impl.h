@@ -3,6 +3,7 @@
 #pragma once
 
 #include <deque>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,10 +11,23 @@
 #include "marvin/testing/mock_robot.hpp"
 #include "skills/host_api.h"
 #include "skills/in_memory_personal_data.h"
+#include "skills/scripted_eyes.h"
 
 namespace marvin::testing {
 
-struct MockRobot::Impl : devices::Body, skills::User {
+// The scripted smart home: devices in memory that report what they are told, unless
+// the test made them (or the broker) silent.
+struct FakeHome : skills::SmartHome {
+  nlohmann::json devices() override;
+  Reply set(const std::string& device, const nlohmann::json& state) override;
+  std::vector<nlohmann::json> list;
+  std::vector<std::string> silent;
+  bool reachable = true;
+  std::string room = "hall";
+  std::vector<std::string>* actions = nullptr;
+};
+
+struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   Impl(std::string skill_id, std::vector<std::string> permissions);
 
   // devices::Body
@@ -24,11 +38,16 @@ struct MockRobot::Impl : devices::Body, skills::User {
   std::vector<devices::ScanPoint> latest_scan() override;
   void set_light(devices::Light light) override;
 
+  // navigation::GoingPlaces: scripted (add_place, block_place, set_room)
+  navigation::GoResult go_to(std::string_view target, const navigation::WaitFn& wait) override;
+  std::optional<std::string> where_am_i() override;
+
   // skills::User
   void say(std::string_view text) override;
   std::optional<std::string> ask(std::string_view question) override;
 
   skills::InMemoryPersonalData data;
+  skills::ScriptedEyes eyes{[this](std::string action) { actions.push_back(std::move(action)); }};
   skills::HostServices services;
   std::unique_ptr<skills::SkillContext> context;
   std::string skill_id;
@@ -37,6 +56,10 @@ struct MockRobot::Impl : devices::Body, skills::User {
   std::vector<std::string> said, asked, actions;
   std::vector<marvin_scan_point> scan;
   std::optional<std::int64_t> last_fired;
+  std::vector<std::pair<std::string, std::string>> places;   // name, room
+  std::vector<std::pair<std::string, std::string>> blocked;  // name, reason
+  std::string room = "hall";
+  FakeHome home;
 };
 
 }  // namespace marvin::testing

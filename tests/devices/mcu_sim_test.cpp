@@ -19,6 +19,7 @@
 using namespace marvin::devices;
 using marvin::devices::test::read_state;
 using marvin::devices::test::start_mcu_simulator;
+using marvin::devices::test::start_mcu_simulator_in_world;
 using marvin::test_support::ChildProcess;
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
@@ -140,6 +141,43 @@ TEST_CASE("serial body drives marvin-mcu-sim to a wall, stops by itself, survive
 
   body.link().remove_callback(cb);
   body.link().remove_callback(scb);
+  sim->stop(SIGTERM);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("marvin-mcu-sim --world: the firmware's obstacle stop against the world's sonar") {
+  char tmpl[] = "/tmp/marvin-mcu-sim-world-XXXXXX";
+  REQUIRE(::mkdtemp(tmpl) != nullptr);
+  fs::path dir = tmpl;
+  fs::path link = dir / "tty", state = dir / "state.json", world = dir / "world.json";
+  // A 3 m x 2 m room; the robot 1.4 m from the west wall facing the east one, 1.6 m away.
+  std::ofstream(world) << R"({"format": "marvin-world", "version": 1,
+    "rooms": [{"name": "hall", "outline": [[0,0],[3,0],[3,2],[0,2]]}],
+    "robot": {"start": [1.4, 1], "heading_deg": 0}})";
+  auto sim = std::make_unique<ChildProcess>(start_mcu_simulator_in_world(world, link, state));
+  Recorder rec;
+  LinkOptions options{link.string(), 50ms, 1500ms};
+  SerialBody body(options, SweepSettings{0, 30, 15});
+  int cb = body.link().add_telemetry_callback([&](const Telemetry& t) { rec.on(t); });
+  REQUIRE(rec.wait([&] { return rec.statuses >= 2; }));
+  body.move(Direction::kForward, 200, 60s);
+  REQUIRE(rec.wait(
+      [&] {
+        for (const Fault& f : rec.faults)
+          if (f.code == MV_FAULT_OBSTACLE) return true;
+        return false;
+      },
+      60s));
+  REQUIRE(rec.wait([&] {
+    auto s = read_state(state);
+    return s.value("left", 1) == 0 && s.value("right", 1) == 0;
+  }));
+  auto s = read_state(state);
+  INFO("simulator state: " << s.dump());
+  CHECK(s.value("collisions", -1) == 0);
+  CHECK(s.value("x", 0.0) > 2.2);             // it crossed to the far wall
+  CHECK(s.value("clearance_m", 0.0) > 0.15);  // and stopped clear of the wall
+  body.link().remove_callback(cb);
   sim->stop(SIGTERM);
   fs::remove_all(dir);
 }

@@ -23,6 +23,19 @@ inline test_support::ChildProcess start_mcu_simulator(const std::filesystem::pat
       options);
 }
 
+// The same in a world file (sim/world.h) instead of the corridor room.
+inline test_support::ChildProcess start_mcu_simulator_in_world(const std::filesystem::path& world,
+                                                               const std::filesystem::path& link,
+                                                               const std::filesystem::path& state) {
+  test_support::ChildOptions options;
+  options.in = test_support::ChildStream::kInherit;
+  options.out = test_support::ChildStream::kNull;
+  options.err = test_support::ChildStream::kInherit;
+  return test_support::ChildProcess({MARVIN_MCU_SIM, "--world", world.string(), "--link",
+                                     link.string(), "--state", state.string()},
+                                    options);
+}
+
 // The simulator's last state, or null while there is none (not written yet, or caught
 // mid-write: read again).
 inline nlohmann::json read_state(const std::filesystem::path& p) {

@@ -10,6 +10,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -22,6 +24,7 @@ using namespace std::chrono_literals;
 using marvin::devices::test::read_state;
 using marvin::devices::test::start_mcu_simulator;
 using marvin::test_support::ChildProcess;
+using marvin::test_support::exit_code;
 
 namespace {
 
@@ -101,6 +104,47 @@ TEST_CASE("run --sim --mcu-tty: a skill's move drives the simulated base over th
   INFO("simulator state: " << read_state(state).dump());
   CHECK(read_state(state).value("collisions", -1) == 0);
 
+  sim.stop(SIGTERM);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("run --sim --mcu-tty --world: going places over the real serial path") {
+  // marvin-mcu-sim runs the firmware core in the default home; the host plans on the same
+  // world's floor plan and drives by dead reckoning through the tty.
+  char tmpl[] = "/tmp/marvin-run-mcu-world-XXXXXX";
+  REQUIRE(::mkdtemp(tmpl) != nullptr);
+  const fs::path dir = tmpl;
+  const fs::path link = dir / "tty", state = dir / "state.json";
+  const char* source = std::getenv("MARVIN_SOURCE_DIR");
+  REQUIRE(source != nullptr);
+  const std::string world = (fs::path(source) / "examples" / "worlds" / "home.json").string();
+  marvin::test_support::ChildOptions sim_options;
+  sim_options.out = marvin::test_support::ChildStream::kNull;
+  sim_options.err = marvin::test_support::ChildStream::kInherit;
+  ChildProcess sim({MARVIN_MCU_SIM, "--world", world, "--link", link.string(), "--state",
+                    state.string()},
+                   sim_options);
+  REQUIRE(eventually(dir, [&] { return read_state(state).contains("x"); }));
+
+  fs::create_directories(dir / "skills");
+  marvin::test_support::ChildOptions host_options;
+  host_options.environment = {"MARVIN_SKILLS_DIR=" + (dir / "none").string()};
+  ChildProcess host({MARVIN_EXE, "run", "--sim", "--in-memory", "--skills-dir",
+                     (dir / "skills").string(), "--mcu-tty", link.string(), "--world", world},
+                    host_options);
+  host.wait_for_line_containing("[base: connected on");
+  host.send_line("go to the front door");
+  host.wait_for_line("Marvin: I'm at the front door, in the hall.");
+  host.send_line("where are you");
+  host.wait_for_line("Marvin: I'm in the hall.");
+  CHECK(exit_code(host.finish()) == 0);
+
+  // The simulated body is there for real (the world's truth, not the host's reckoning).
+  auto s = read_state(state);
+  INFO("simulator state: " << s.dump());
+  CHECK(s.value("collisions", -1) == 0);
+  CHECK(std::abs(s.value("x", 0.0) - 5.0) < 0.3);
+  CHECK(s.value("y", 9.0) < 1.0);
   sim.stop(SIGTERM);
   fs::remove_all(dir);
 }

@@ -105,3 +105,18 @@ TEST_CASE("answer grammar: the slot asked for, yes/no for a confirmation, none f
 
   CHECK(app::answer_grammar(p, values, "Which colour do you like?", {}).empty());
 }
+
+TEST_CASE("command grammar: the places the robot can go to are slot phrases too") {
+  struct Places : navigation::GoingPlaces {
+    navigation::GoResult go_to(std::string_view, const navigation::WaitFn&) override { return {}; }
+    void stop() override {}
+    std::optional<std::string> where_am_i() override { return std::nullopt; }
+    std::vector<std::string> place_names() const override { return {"kitchen", "the kitchen"}; }
+  } places;
+  app::SlotValues values;
+  app::add_place_names(nullptr, values);
+  CHECK(values.text_phrases.empty());
+  app::add_place_names(&places, values);
+  CHECK(values.text_phrases == std::vector<std::string>{"kitchen", "the kitchen"});
+  CHECK(contains(app::command_grammar(phrases(), values, {}).jsgf, "the kitchen"));
+}

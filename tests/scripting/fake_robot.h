@@ -28,6 +28,7 @@ struct FakeRobot {
   std::int64_t* clock_ms = nullptr;      // the test's fake steady clock, moved by ask()
   bool cancelled = false;
   std::string last_error;
+  std::string room = "hall";  // where_am_i; go_to("kitchen") moves here, go_to("garden") fails
 
   marvin_host* host() { return reinterpret_cast<marvin_host*>(this); }
   static FakeRobot& of(marvin_host* host) { return *reinterpret_cast<FakeRobot*>(host); }
@@ -130,6 +131,23 @@ struct FakeRobot {
         return MARVIN_OK;
       };
       t.is_cancelled = [](marvin_host* h) { return of(h).cancelled ? 1 : 0; };
+      t.go_to = [](marvin_host* h, const char* place) {
+        FakeRobot& r = of(h);
+        if (marvin_status s = r.deny_unless("motion"); s != MARVIN_OK) return s;
+        r.actions.push_back(std::string("go_to ") + place);
+        if (std::string(place) == "garden") {
+          r.last_error = "the garden door is blocked";
+          return MARVIN_ERR_UNAVAILABLE;
+        }
+        r.room = place;
+        return MARVIN_OK;
+      };
+      t.where_am_i = [](marvin_host* h, marvin_text_out* out) {
+        FakeRobot& r = of(h);
+        if (marvin_status s = r.deny_unless("sensors"); s != MARVIN_OK) return s;
+        if (r.room.empty()) return MARVIN_ERR_NOT_FOUND;
+        return write(out, r.room);
+      };
       return t;
     }();
     return &table;

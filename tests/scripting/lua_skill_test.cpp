@@ -195,6 +195,24 @@ end)
   CHECK_FALSE(s.skill->next_timer_ms().has_value());
 }
 
+TEST_CASE("going places: go_to answers true or false and why; where_am_i names the room") {
+  Loaded s("walker", R"(
+marvin.on("go", function(slots)
+  local ok, why = marvin.go_to(slots.place)
+  if ok then marvin.say("in " .. marvin.where_am_i()) else marvin.say("no: " .. why) end
+end)
+)", {"go"}, {"motion", "sensors"});
+  CHECK(s.handle("go", R"({"place":"kitchen"})") == MARVIN_OK);
+  CHECK(s.handle("go", R"({"place":"garden"})") == MARVIN_OK);
+  CHECK(s.robot.said == std::vector<std::string>{"in kitchen", "no: the garden door is blocked"});
+  CHECK(s.robot.actions == std::vector<std::string>{"go_to kitchen", "go_to garden"});
+  std::string error;
+  Loaded denied("walker2", "marvin.on('go', function() marvin.go_to('kitchen') end)", {"go"});
+  CHECK(denied.handle("go", "{}", &error) == MARVIN_ERR_PERMISSION);
+  CHECK(contains(error, "marvin.go_to: permission 'motion' is not granted"));
+  CHECK(denied.robot.actions.empty());
+}
+
 TEST_CASE("a call without permission fails in the skill's line and does nothing") {
   Loaded s("sneaky", R"(
 marvin.on("drive", function()

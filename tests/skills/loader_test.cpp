@@ -66,14 +66,14 @@ struct TempDir {
 TEST_CASE("a skill with another ABI major is refused, naming both versions") {
   CHECK(load_error("major_newer") ==
         "skill 'echo' (" + (kFixtures / "major_newer" / "skill.so").string() +
-            ") was built for Marvin ABI 2.0 but this host speaks ABI 1.1: the major versions "
+            ") was built for Marvin ABI 2.0 but this host speaks ABI 1.2: the major versions "
             "must be equal; rebuild the skill with a matching SDK");
 }
 
 TEST_CASE("a skill built for a newer ABI minor is refused, naming both versions") {
   CHECK(load_error("minor_newer") ==
         "skill 'echo' (" + (kFixtures / "minor_newer" / "skill.so").string() +
-            ") was built for Marvin ABI 1.7, newer than this host's ABI 1.1: update Marvin or "
+            ") was built for Marvin ABI 1.7, newer than this host's ABI 1.2: update Marvin or "
             "rebuild the skill with an older SDK");
 }
 
@@ -148,7 +148,7 @@ TEST_CASE("the registry skips a broken skill, loads the others, and reports why"
   // Broken: needs a newer Robot API than this host has.
   dir.write("d_future/skill.json",
             R"({"id": "future", "name": "D", "version": "1.0.0", "kind": "native",
-    "host_api": {"min": "1.3"}, "intents": [{"name": "x", "templates": ["future"]}]})");
+    "host_api": {"min": "1.9"}, "intents": [{"name": "x", "templates": ["future"]}]})");
   // Broken: a kind without a runtime in this host.
   dir.write("e_lua/skill.json",
             R"({"id": "luaskill", "name": "E", "version": "1.0.0", "kind": "lua",
@@ -166,9 +166,11 @@ TEST_CASE("the registry skips a broken skill, loads the others, and reports why"
   CHECK(registry.errors()[0].message == (dir.path / "b_broken" / "skill.json").string() +
                                             ": $.version: expected a string, got an integer");
   CHECK(registry.errors()[1].message.find(
-            "was built for Marvin ABI 2.0 but this host speaks ABI 1.1") != std::string::npos);
+            "was built for Marvin ABI 2.0 but this host speaks ABI 1." +
+            std::to_string(MARVIN_ABI_MINOR)) != std::string::npos);
   CHECK(registry.errors()[2].message.find(
-            "needs Robot API 1.3 to 1.99999 (\"host_api\") but this host has 1.1") !=
+            "needs Robot API 1.9 to 1.99999 (\"host_api\") but this host has 1." +
+            std::to_string(MARVIN_ROBOT_API_MINOR)) !=
         std::string::npos);
   CHECK(registry.errors()[3].message ==
         "skill 'luaskill': no runtime for kind \"lua\" in this host");

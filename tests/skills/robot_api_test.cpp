@@ -227,9 +227,9 @@ TEST_CASE("later capabilities answer unavailable (permission first)") {
   SkillContext plain("plain", {}, w.services);
   char buffer[64];
   marvin_text_out out{buffer, sizeof buffer, 0};
+  // A host without a camera (API 1.2 serves vision_find_object from its camera).
   CHECK(api().vision_find_object(granted.host(), "keys", &out) == MARVIN_ERR_UNAVAILABLE);
-  CHECK(std::string(api().last_error(granted.host())) ==
-        "vision is not available on this robot yet");
+  CHECK(std::string(api().last_error(granted.host())) == "this robot has no camera");
   CHECK(api().vision_who_is_there(granted.host(), &out) == MARVIN_ERR_UNAVAILABLE);
   CHECK(api().phone_call(granted.host(), "+49") == MARVIN_ERR_UNAVAILABLE);
   CHECK(api().smarthome_set(granted.host(), "lamp", "on") == MARVIN_ERR_UNAVAILABLE);

@@ -9,12 +9,17 @@
  * Permissions (declared in skill.json, approved by the owner at install):
  *   "speech"    say, ask               (every skill has it implicitly)
  *   "light"     set_light
- *   "motion"    move, stop, tilt_head
- *   "sensors"   obstacle_scan
+ *   "motion"    move, stop, tilt_head, go_to, go_stop (API 1.2)
+ *   "sensors"   obstacle_scan, where_am_i (API 1.2)
  *   "schedule"  schedule_* (schedule_snooze, schedule_done, schedule_last_fired: API 1.1)
  *   "contacts"  contacts_*, people_list
  *   "storage"   storage_*             (a skill only ever sees its own keys)
+ *   "camera"    vision_look, vision_capture_photo (API 1.2)
+ *   "faces"     vision_enroll_face, vision_forget_face (API 1.2): who the robot knows
  *   "vision", "phone", "smarthome"    the capabilities of later releases
+
+ *   "smarthome" smarthome_set, smarthome_devices (API 1.2)
+ *   "vision", "phone"                 the capabilities of later releases
  * Calls without the permission fail with MARVIN_ERR_PERMISSION and change nothing.
  *
  * Threading: a skill instance is called by one host thread at a time; it may call the
@@ -59,7 +64,7 @@ typedef enum marvin_log_level {
 } marvin_log_level;
 
 #define MARVIN_ROBOT_API_MAJOR 1
-#define MARVIN_ROBOT_API_MINOR 1
+#define MARVIN_ROBOT_API_MINOR 2
 
 typedef struct marvin_robot_api {
   uint32_t struct_size; /* sizeof(marvin_robot_api) as the host compiled it */
@@ -127,10 +132,20 @@ typedef struct marvin_robot_api {
   int (*is_cancelled)(marvin_host* host);
 
   /* --- later capabilities: present now, MARVIN_ERR_UNAVAILABLE until they land ---- */
+  /* Since API 1.2 (permission "camera" or "vision"): whether an object taught with
+   * vision_teach_object is in view now: {"name", "found": true|false, "box": [x, y, w, h]}.
+   * MARVIN_ERR_NOT_FOUND if nothing of that name was taught. */
   marvin_status (*vision_find_object)(marvin_host* host, const char* object_name,
                                       marvin_text_out* result_json);
   marvin_status (*vision_who_is_there)(marvin_host* host, marvin_text_out* people_json);
   marvin_status (*phone_call)(marvin_host* host, const char* phone_number);
+  /* Smart home (real since API 1.2; MARVIN_ERR_UNAVAILABLE on older hosts): sets device
+   * `device` (an id from smarthome_devices, or the name or alias of exactly one device) to
+   * `state`: "on", "off", or JSON {"on": true|false, "brightness": 0..100} (either or both).
+   * Returns MARVIN_OK only once the device itself reported the new state through the home's
+   * broker; MARVIN_ERR_UNAVAILABLE when there is no broker connection, the device is offline
+   * or did not answer within a few seconds (last_error says which), MARVIN_ERR_NOT_FOUND
+   * for an unknown or ambiguous device, MARVIN_ERR_INVALID for a malformed state. */
   marvin_status (*smarthome_set)(marvin_host* host, const char* device, const char* state);
 
   /* --- since API 1.1: answering a reminder that fired ("snooze", "I took them") ------
@@ -149,6 +164,62 @@ typedef struct marvin_robot_api {
    * state), so a skill knows which reminder "done" or "snooze" refers to.
    * MARVIN_ERR_NOT_FOUND if no reminder has fired since the host started. */
   marvin_status (*schedule_last_fired)(marvin_host* host, marvin_text_out* reminder_json);
+
+  /* --- since API 1.2: seeing (the camera, faces and objects) -------------------------
+   * Check struct_size (or minor) before calling these on an older host.
+   * A robot without a working camera answers MARVIN_ERR_UNAVAILABLE with a sentence
+   * naming the camera and what went wrong. */
+  /* What the camera sees now, as JSON:
+   *   {"width": 640, "height": 480,
+   *    "faces":   [{"name": "Anna" | "" (someone unknown), "box": [x, y, w, h],
+   *                 "distance": 0.12 (squared L2 to the nearest enrolled face, -1: none)}],
+   *    "objects": [{"label": "cup", "box": [x, y, w, h], "score": 0.8}]}
+   * Boxes are in pixels of that frame. Permission "camera". */
+  marvin_status (*vision_look)(marvin_host* host, marvin_text_out* seen_json);
+  /* Takes a photo (JPEG) and writes the file's path. Photos are only kept when the user
+   * asked for one; the skill owns the file. Permission "camera". */
+  marvin_status (*vision_capture_photo)(marvin_host* host, marvin_text_out* photo_path);
+  /* "This is Anna": learns the face in front of the camera from up to `frames` frames
+   * (1..20) and writes {"name", "frames_used"}. Exactly one face must be in view:
+   * MARVIN_ERR_NOT_FOUND when there is none, MARVIN_ERR_INVALID when there are several.
+   * Consent: a skill calls this only after the owner confirmed. Permission "faces". */
+  marvin_status (*vision_enroll_face)(marvin_host* host, const char* name, uint32_t frames,
+                                      marvin_text_out* result_json);
+  /* "Forget Anna's face": removes the person and every embedding of their face.
+   * MARVIN_ERR_NOT_FOUND if nobody of that name is enrolled. Permission "faces". */
+  marvin_status (*vision_forget_face)(marvin_host* host, const char* name);
+  /* "These are my keys": learns the look of the thing held up in the middle of the view
+   * (its features, not a photo) so vision_find_object can find it later.
+   * MARVIN_ERR_INVALID when it is too plain to recognise. Permission "camera". */
+  marvin_status (*vision_teach_object)(marvin_host* host, const char* name);
+
+  /* --- since API 1.2: going places -----------------------------------------------
+   * The robot plans a path on its floor plan and drives it, stopping and re-planning
+   * when the sonar sees something in the way. Check struct_size (or minor) before
+   * calling these on an older host. */
+  /* Drives to `place` and returns once there: a room ("kitchen"), a named place ("the
+   * sofa"), a person's last known spot ("Anna") or "me" (the robot's owner). Case and a
+   * leading "the" do not matter. MARVIN_ERR_NOT_FOUND for a place the map does not know;
+   * MARVIN_ERR_UNAVAILABLE when the robot gave up, with last_error saying why in words the
+   * user understands ("the kitchen door is blocked") or when the robot has no map;
+   * MARVIN_ERR_CANCELLED when the user said "stop" (the wheels are stopped then). */
+  marvin_status (*go_to)(marvin_host* host, const char* place);
+  /* Stops going places and the wheels now. */
+  marvin_status (*go_stop)(marvin_host* host);
+  /* The room the robot believes it is in ("kitchen"). MARVIN_ERR_NOT_FOUND between rooms
+   * (in a doorway) or outside every room. */
+  marvin_status (*where_am_i)(marvin_host* host, marvin_text_out* room);
+
+  /* --- since API 1.2: smart home ------------------------------------------------------
+   * The devices the robot can control, with the state they reported last, as JSON:
+   *   {"connected": true, "room": "living room",
+   *    "devices": [{"id": "z2m:kitchen/kitchen light", "name": "kitchen light",
+   *                 "room": "kitchen", "type": "light", "dimmable": true,
+   *                 "aliases": ["the big lamp"], "available": true,
+   *                 "on": false, "brightness": 100}]}
+   * "connected": whether the home's broker is reachable now; "room": where the robot is;
+   * "on"/"brightness" are null until the device reported them. */
+  marvin_status (*smarthome_devices)(marvin_host* host, marvin_text_out* devices_json);
 } marvin_robot_api;
 
 #ifdef __cplusplus

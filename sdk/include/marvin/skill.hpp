@@ -151,6 +151,36 @@ class Robot {
       throw;
     }
   }
+  // Going places (API 1.2). go_to returns once there; throws Error(NOT_FOUND) for a place
+  // the map does not know, Error(UNAVAILABLE) when the robot gave up (what() says why:
+  // "the kitchen door is blocked"), Error(CANCELLED) on "stop".
+  void go_to(std::string_view place) {
+    check(fn(&marvin_robot_api::go_to, "go_to")(host_, str(place).c_str()));
+  }
+  void go_stop() { check(fn(&marvin_robot_api::go_stop, "go_stop")(host_)); }
+  // The room the robot is in, or nullopt between rooms.
+  std::optional<std::string> where_am_i() {
+    auto call = fn(&marvin_robot_api::where_am_i, "where_am_i");
+    try {
+      return text([&](marvin_text_out* out) { return call(host_, out); });
+    } catch (const Error& e) {
+      if (e.status() == MARVIN_ERR_NOT_FOUND) return std::nullopt;
+      throw;
+    }
+  }
+  // Smart home (Robot API 1.2). Sets a device ("on", "off" or {"on", "brightness"}) and
+  // returns once the device reported it; throws Error(MARVIN_ERR_UNAVAILABLE) when the
+  // broker is unreachable or the device did not answer (what() says which).
+  void smarthome_set(std::string_view device, const nlohmann::json& state) {
+    std::string d = str(device);
+    std::string s = state.is_string() ? state.get<std::string>() : state.dump();
+    check(fn(&marvin_robot_api::smarthome_set, "smarthome_set")(host_, d.c_str(), s.c_str()));
+  }
+  // {"connected", "room", "devices": [...]} (see marvin/robot.h).
+  nlohmann::json smarthome_devices() {
+    auto call = fn(&marvin_robot_api::smarthome_devices, "smarthome_devices");
+    return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
+  }
   nlohmann::json contacts_find(std::string_view name) {
     std::string n = str(name);
     auto call = fn(&marvin_robot_api::contacts_find, "contacts_find");
@@ -166,6 +196,46 @@ class Robot {
   nlohmann::json people_list() {
     auto call = fn(&marvin_robot_api::people_list, "people_list");
     return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
+  }
+
+  // --- seeing (API 1.2; see marvin/robot.h) ---
+  // What the camera sees now: {"width", "height", "faces": [...], "objects": [...]}.
+  nlohmann::json vision_look() {
+    auto call = fn(&marvin_robot_api::vision_look, "vision_look");
+    return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
+  }
+  // Takes a photo; returns the JPEG's path.
+  std::string vision_capture_photo() {
+    auto call = fn(&marvin_robot_api::vision_capture_photo, "vision_capture_photo");
+    return text([&](marvin_text_out* out) { return call(host_, out); });
+  }
+  // Learns the one face in view as `name` from up to `frames` frames: {"name", "frames_used"}.
+  nlohmann::json vision_enroll_face(std::string_view name, std::uint32_t frames = 5) {
+    std::string n = str(name);
+    auto call = fn(&marvin_robot_api::vision_enroll_face, "vision_enroll_face");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, n.c_str(), frames, out); }));
+  }
+  void vision_forget_face(std::string_view name) {
+    std::string n = str(name);
+    check(fn(&marvin_robot_api::vision_forget_face, "vision_forget_face")(host_, n.c_str()));
+  }
+  // "These are my keys": learns the look of what is held up in the middle of the view.
+  void vision_teach_object(std::string_view name) {
+    std::string n = str(name);
+    check(fn(&marvin_robot_api::vision_teach_object, "vision_teach_object")(host_, n.c_str()));
+  }
+  // {"name", "found", "box"} for a taught object; nullopt if it was never taught.
+  std::optional<nlohmann::json> vision_find_object(std::string_view name) {
+    std::string n = str(name);
+    auto call = fn(&marvin_robot_api::vision_find_object, "vision_find_object");
+    try {
+      return nlohmann::json::parse(
+          text([&](marvin_text_out* out) { return call(host_, n.c_str(), out); }));
+    } catch (const Error& e) {
+      if (e.status() == MARVIN_ERR_NOT_FOUND) return std::nullopt;
+      throw;
+    }
   }
 
   // This skill's own key-value storage. storage_get returns nullopt for a missing key.

@@ -52,6 +52,16 @@ class MockRobot {
   void set_scan(std::vector<marvin_scan_point> points);
   // As if the user said "stop": is_cancelled() becomes true, ask() and move() cancel.
   void cancel();
+  // Going places (API 1.2): go_to(place) "arrives" at a place added here (case and a
+  // leading "the" do not matter), which moves the robot to `room`; a blocked place makes
+  // go_to give up with `reason` (MARVIN_ERR_UNAVAILABLE); any other place is not found.
+  // actions() records "go_to <place>" and "stop".
+  void add_place(std::string name, std::string room);
+  void block_place(std::string name, std::string reason);
+  // The room the robot is in: where_am_i() answers it ("": between rooms) and the smart
+  // home resolves "the light" in it. Starts as "hall".
+  void set_room(std::string room);
+  const std::string& room() const;
   // Adds a contact the skill can find; returns its id.
   std::int64_t add_contact(const std::string& name, std::vector<std::string> aliases = {},
                            std::vector<std::string> phone_numbers = {});
@@ -62,14 +72,33 @@ class MockRobot {
   // As if the robot had just announced reminder `reminder_id` ("Reminder: take my pills"):
   // schedule_last_fired() serves it from now on. std::nullopt: nothing fired (the default).
   void set_last_fired(std::optional<std::int64_t> reminder_id);
+  // What the camera sees from now on (API 1.2): the JSON vision_look returns (see
+  // marvin/robot.h), e.g. {"faces":[{"name":"","box":[100,80,120,120]}],"objects":[]}.
+  // Until this is called the mock robot has no camera (MARVIN_ERR_UNAVAILABLE).
+  // vision_enroll_face names the one face in view; vision_forget_face unnames it.
+  void set_camera_view(const std::string& seen_json);
+  // The camera fails from now on ("unplugged"): vision_* answer MARVIN_ERR_UNAVAILABLE with
+  // `message` as the error sentence, and nothing is enrolled or forgotten.
+  void set_camera_failure(std::string message);
+
+  // Smart home (smarthome_set, smarthome_devices). A device as in smarthome_devices()'s
+  // "devices" ({"id", "name", "room", "type", "dimmable", ...}; "on" false and
+  // "brightness" 100 when left out); it answers every command unless set_device_answers()
+  // says otherwise. The broker is reachable unless set_broker_reachable(false).
+  void add_device(const std::string& device_json);
+  void set_device_answers(const std::string& id, bool answers);
+  void set_broker_reachable(bool reachable);
+  // The device's current state as JSON text; nullopt for an unknown id.
+  std::optional<std::string> device(const std::string& id) const;
 
   // --- what the skill did ----------------------------------------------------------
   // Every sentence spoken, questions included, in order.
   const std::vector<std::string>& said() const;
   // The questions asked (also in said()).
   const std::vector<std::string>& asked() const;
-  // Body actions in order: "light executing", "move forward speed=120 ms=1500", "stop",
-  // "tilt_head 20".
+  // Body, camera and smart-home actions in order: "light executing",
+  // "move forward speed=120 ms=1500", "stop", "tilt_head 20", "capture_photo",
+  // "enroll_face Anna frames=3", "forget_face Anna", "smarthome_set <id> {\"on\":true}".
   const std::vector<std::string>& actions() const;
   // Scripted answers not used yet.
   std::size_t answers_left() const;
@@ -80,6 +109,8 @@ class MockRobot {
   std::optional<std::string> reminder(std::int64_t id) const;
   // The skill's stored value under `key`.
   std::optional<std::string> stored(const std::string& key) const;
+  // People enrolled by face (vision_enroll_face), in order, without the forgotten ones.
+  std::vector<std::string> enrolled_faces() const;
   // Forgets said(), asked() and actions().
   void clear();
 

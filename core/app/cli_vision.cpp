@@ -1,0 +1,128 @@
+// `marvin people enroll NAME PHOTO...`, `marvin people forget NAME` (the face gallery of
+// core/vision; `marvin people list` is in cli_data.cpp), and `marvin vision look CAMERA`:
+// the faces a camera (or a folder of photos) shows, with names, as JSON lines.
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "app/cli.h"
+#include "data/sqlite_store.h"
+#include "vision/cameras.h"
+#include "vision/face_gallery.h"
+#include "vision/face_pipeline.h"
+
+namespace marvin::app {
+namespace {
+
+struct VisionArgs {
+  std::string data_dir;
+  std::string detector = "blazeface";
+  std::string name;
+  std::vector<std::string> photos;
+  std::string camera;
+  int frames = 1;
+  double threshold = vision::kDefaultFaceThreshold;
+  void add_data_dir(CLI::App& cmd) {
+    cmd.add_option("--data-dir", data_dir,
+                   "Directory holding marvin.db (default: $MARVIN_DATA_DIR, "
+                   "$XDG_DATA_HOME/marvin, ~/.local/share/marvin)");
+  }
+  data::SqliteStore open() const {
+    data::StoreOptions o;
+    o.path = data::database_path(data_dir.empty() ? data::default_data_dir()
+                                                  : std::filesystem::path(data_dir));
+    return data::SqliteStore(o);
+  }
+};
+
+void enroll(const VisionArgs& a) {
+  // Every photo is read and embedded before anything is stored: a bad photo changes nothing.
+  vision::FacePipeline pipeline(a.detector);
+  std::vector<std::vector<float>> embeddings;
+  for (const auto& photo : a.photos) {
+    const cv::Mat image = vision::read_photo(photo);
+    const auto faces = pipeline.faces(image);
+    if (faces.empty()) {
+      throw CliError("photo " + photo + ": no face found (detector " +
+                     pipeline.detector().name() + "); nothing was enrolled");
+    }
+    if (faces.size() > 1) {
+      throw CliError("photo " + photo + ": " + std::to_string(faces.size()) +
+                     " faces; give photos of " + a.name + " alone; nothing was enrolled");
+    }
+    embeddings.push_back(faces.front().embedding);
+  }
+  data::SqliteStore store = a.open();
+  vision::FaceGallery gallery(store);
+  gallery.enroll(a.name, embeddings, "cli");
+  std::printf("enrolled %s from %zu photo%s\n", a.name.c_str(), embeddings.size(),
+              embeddings.size() == 1 ? "" : "s");
+}
+
+void forget(const VisionArgs& a) {
+  data::SqliteStore store = a.open();
+  vision::FaceGallery gallery(store);
+  if (!gallery.forget(a.name, "cli")) {
+    throw CliError("nobody called " + a.name + " is enrolled (see `marvin people list`)");
+  }
+  std::printf("forgot %s and their face embeddings\n", a.name.c_str());
+}
+
+void look(const VisionArgs& a) {
+  vision::FacePipeline pipeline(a.detector);
+  data::SqliteStore store = a.open();
+  vision::FaceGallery gallery(store);
+  auto camera = vision::open_camera(a.camera);
+  vision::Frame frame;
+  for (int i = 0; i < a.frames && camera->read(frame); ++i) {
+    nlohmann::json faces = nlohmann::json::array();
+    for (const auto& f : pipeline.faces(frame.image)) {
+      const auto m = gallery.identify(f.embedding, static_cast<float>(a.threshold));
+      faces.push_back({{"name", m.known ? m.name : ""},
+                       {"distance", m.distance},
+                       {"score", f.score},
+                       {"box", {f.box.x, f.box.y, f.box.width, f.box.height}}});
+    }
+    write_line(nlohmann::json{{"frame", frame.index}, {"faces", faces}}.dump());
+  }
+}
+
+void install_vision(CLI::App& root) {
+  CLI::App& people = command_group(root, "people", "The people Marvin knows by face");
+  {
+    auto a = std::make_shared<VisionArgs>();
+    auto* cmd = people.add_subcommand("enroll", "Learn a person's face from photos of them alone");
+    cmd->add_option("NAME", a->name, "the person's name")->required();
+    cmd->add_option("PHOTO", a->photos, "photos showing only this person")->required();
+    cmd->add_option("--detector", a->detector, "blazeface (default), blazeface-front or haar");
+    a->add_data_dir(*cmd);
+    cmd->callback([a] { enroll(*a); });
+  }
+  {
+    auto a = std::make_shared<VisionArgs>();
+    auto* cmd = people.add_subcommand("forget", "Remove a person and all their face embeddings");
+    cmd->add_option("NAME", a->name, "the person's name")->required();
+    a->add_data_dir(*cmd);
+    cmd->callback([a] { forget(*a); });
+  }
+  CLI::App& vision_cmd = command_group(root, "vision", "Cameras and what they see");
+  {
+    auto a = std::make_shared<VisionArgs>();
+    auto* cmd = vision_cmd.add_subcommand("look", "Faces (with names) a camera sees, as JSON lines");
+    cmd->add_option("CAMERA", a->camera, "folder:DIR, video:FILE, device:/dev/video0 or device:0")
+        ->required();
+    cmd->add_option("--frames", a->frames, "frames to look at (default 1)");
+    cmd->add_option("--detector", a->detector, "blazeface (default), blazeface-front or haar");
+    cmd->add_option("--threshold", a->threshold, "squared L2 below which a face is known");
+    a->add_data_dir(*cmd);
+    cmd->callback([a] { look(*a); });
+  }
+}
+
+}  // namespace
+
+MARVIN_CLI_COMMANDS(install_vision);
+
+}  // namespace marvin::app

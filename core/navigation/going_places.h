@@ -1,0 +1,44 @@
+// Going places as skills see it (through the Robot API, core/skills/host_api.h): the
+// interface the navigator implements, and the mock robot scripts for skills' tests.
+// Header-only, so the skill layer needs no navigation library.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace marvin::navigation {
+
+struct GoResult {
+  enum class Outcome { kArrived, kUnknownPlace, kGaveUp, kCancelled } outcome = Outcome::kArrived;
+  std::string target;  // as the map spells it ("kitchen", "the sofa", "Anna")
+  std::string reason;  // for kUnknownPlace / kGaveUp: "the kitchen door is blocked"
+  bool arrived() const { return outcome == Outcome::kArrived; }
+};
+
+// Waits `ms` of robot time between two control steps; returns true when the request was
+// cancelled meanwhile (the user said "stop"), which must end the wait at once.
+using WaitFn = std::function<bool(std::chrono::milliseconds)>;
+
+// What skills reach through the Robot API (core/skills/host_api.h).
+class GoingPlaces {
+ public:
+  virtual ~GoingPlaces() = default;
+  // Drives to `target` (a room, place or person); returns when there, given up or cancelled.
+  virtual GoResult go_to(std::string_view target, const WaitFn& wait) = 0;
+  // Stops the wheels now; a running go_to() returns kCancelled at its next step.
+  virtual void stop() = 0;
+  // Robot seconds per wall-clock second (a simulation run with --speed N: N). The host
+  // waits wall time step / time_scale() between control steps.
+  virtual double time_scale() const { return 1.0; }
+  // The names go_to() knows, as a user would say them ("the kitchen", "kitchen", "the sofa",
+  // "Anna", "me"): what the speech recogniser listens for after "go to".
+  virtual std::vector<std::string> place_names() const { return {}; }
+  // The room the robot believes it is in; nullopt between rooms (a doorway) or outside.
+  virtual std::optional<std::string> where_am_i() = 0;
+};
+
+}  // namespace marvin::navigation

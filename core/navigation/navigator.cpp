@@ -1,0 +1,229 @@
+#include "navigation/navigator.h"
+
+#include <cctype>
+#include <cmath>
+
+namespace marvin::navigation {
+namespace {
+
+double degrees(double rad) { return rad * 180.0 / kPi; }
+double radians(double deg) { return deg * kPi / 180.0; }
+
+std::string with_the(const std::string& name) {
+  if (name.rfind("the ", 0) == 0 || name.empty()) return name;
+  if (std::isupper(static_cast<unsigned char>(name[0]))) return name;  // a person
+  return "the " + name;
+}
+
+}  // namespace
+
+Navigator::Navigator(FloorMap map, devices::Body& body, PoseSource pose, ScanSource scan,
+                     Clock now_ms, NavigatorOptions options)
+    : map_(std::move(map)),
+      body_(body),
+      pose_(std::move(pose)),
+      scan_(std::move(scan)),
+      now_ms_(std::move(now_ms)),
+      options_(options),
+      grid_(map_, options.cell_m, options.inflate_m) {}
+
+std::optional<std::vector<Vec2>> Navigator::plan(Vec2 from, Vec2 to) {
+  std::lock_guard lock(run_mutex_);
+  return planner_.plan(grid_, from, to);
+}
+
+std::vector<Vec2> Navigator::path() const {
+  std::lock_guard lock(path_mutex_);
+  return path_;
+}
+
+std::vector<std::string> Navigator::place_names() const {
+  std::vector<std::string> names;
+  auto add = [&](const std::string& name) {
+    const std::string plain = normalise_name(name);  // "the sofa" -> "sofa"
+    names.push_back(plain);
+    names.push_back("the " + plain);
+  };
+  for (const Room& r : map_.rooms) add(r.name);
+  for (const Place& p : map_.places) add(p.name);
+  for (const Place& p : map_.people) names.push_back(p.name);
+  if (!map_.owner.empty()) names.push_back("me");
+  return names;
+}
+
+void Navigator::stop() {
+  stop_requested_.store(true);
+  body_.stop();
+}
+
+std::optional<std::string> Navigator::where_am_i() {
+  const Room* room = map_.room_at(pose_().position());
+  if (!room) return std::nullopt;
+  return room->name;
+}
+
+GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
+  std::lock_guard lock(run_mutex_);
+  stop_requested_.store(false);
+  GoResult result;
+  std::optional<Target> target = map_.find(name);
+  if (!target) {
+    result.outcome = GoResult::Outcome::kUnknownPlace;
+    result.target = std::string(name);
+    result.reason = "I don't know where " + with_the(std::string(name)) + " is";
+    return result;
+  }
+  result.target = target->name;
+  grid_.clear_obstacles();
+  seen_.clear();
+  const std::int64_t deadline =
+      now_ms_() + static_cast<std::int64_t>(options_.give_up_after_s * 1000);
+  for (int attempt = 0; attempt <= options_.max_replans; ++attempt) {
+    const Vec2 from = pose_().position();
+    std::optional<std::vector<Vec2>> path = planner_.plan(grid_, from, target->at);
+    if (!path) {
+      body_.stop();
+      result.outcome = GoResult::Outcome::kGaveUp;
+      result.reason = blocked_reason(*target);
+      return result;
+    }
+    {
+      std::lock_guard plock(path_mutex_);
+      path_ = *path;
+    }
+    switch (follow(*path, wait, deadline)) {
+      case Follow::kArrived:
+        body_.stop();
+        return result;
+      case Follow::kCancelled:
+        body_.stop();
+        result.outcome = GoResult::Outcome::kCancelled;
+        result.reason = "stopped";
+        return result;
+      case Follow::kTimeOut:
+        body_.stop();
+        result.outcome = GoResult::Outcome::kGaveUp;
+        result.reason = "it is taking too long to get to " + with_the(target->name);
+        return result;
+      case Follow::kBlocked:
+        continue;  // re-plan around what the sonar saw
+    }
+  }
+  body_.stop();
+  result.outcome = GoResult::Outcome::kGaveUp;
+  result.reason = blocked_reason(*target);
+  return result;
+}
+
+bool Navigator::leg_free(Vec2 from, Vec2 to) const {
+  // Cells within the inflation radius of the robot itself do not count: it stands there.
+  const double len = distance(from, to);
+  for (double t = options_.inflate_m; t < len; t += options_.cell_m) {
+    if (grid_.blocked(grid_.cell_of(from + (to - from) * (t / len)))) return false;
+  }
+  return true;
+}
+
+std::string Navigator::blocked_reason(const Target& target) {
+  const std::string where = with_the(target.name);
+  if (!grid_.has_obstacles()) return "I can't find a way to " + where;
+  // Without what the sonar found there is a way: name the door nearest to the obstacles.
+  const Door* nearest = nullptr;
+  double best = 1.0;  // metres: farther than this, it is not "the door" that is blocked
+  for (const Door& d : map_.doors) {
+    if (!d.open) continue;
+    const Vec2 mid = (d.a + d.b) * 0.5;
+    for (Vec2 p : seen_) {
+      double dist = distance(p, mid);
+      if (dist < best) {
+        best = dist;
+        nearest = &d;
+      }
+    }
+  }
+  if (nearest) return with_the(nearest->name) + " is blocked";
+  return "something is in the way to " + where;
+}
+
+Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn& wait,
+                                    std::int64_t deadline_ms) {
+  const auto step_ms = options_.step;
+  const auto move_ms = step_ms * 3;  // outlives one missed step; the next step replaces it
+  std::int64_t aimed_since = now_ms_();
+  bool driving_forward = false;
+  Vec2 progress_at = pose_().position();
+  std::int64_t progress_ms = now_ms_();
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const Vec2 wp = path[i];
+    const bool last = i + 1 == path.size();
+    while (true) {
+      if (stop_requested_.load() || wait(step_ms) || stop_requested_.load()) {
+        body_.stop();
+        return Follow::kCancelled;
+      }
+      const std::int64_t now = now_ms_();
+      if (now > deadline_ms) return Follow::kTimeOut;
+      const Pose pose = pose_();
+      const Vec2 to = wp - pose.position();
+      const double dist = length(to);
+      if (dist < (last ? options_.goal_m : options_.waypoint_m)) break;
+      // Stuck (a collision the base reported by stopping, or wheels slipping): treat
+      // like an obstacle ahead.
+      if (distance(pose.position(), progress_at) > 0.05) {
+        progress_at = pose.position();
+        progress_ms = now;
+      } else if (now - progress_ms > 8000) {
+        body_.stop();
+        Vec2 ahead{pose.x + std::cos(pose.heading) * 0.3, pose.y + std::sin(pose.heading) * 0.3};
+        seen_.push_back(ahead);
+        grid_.add_obstacle(ahead, options_.mark_radius_m);
+        return Follow::kBlocked;
+      }
+      const double err = wrap_angle(std::atan2(to.y, to.x) - pose.heading);
+      if (std::fabs(degrees(err)) > options_.aim_deg) {
+        driving_forward = false;
+        const std::uint8_t speed =
+            std::fabs(degrees(err)) > 30 ? options_.turn_speed : options_.fine_turn_speed;
+        body_.move(err > 0 ? devices::Direction::kLeft : devices::Direction::kRight, speed,
+                   move_ms);
+        continue;
+      }
+      if (!driving_forward) {
+        driving_forward = true;
+        aimed_since = now;  // sonar readings from before this heading point elsewhere
+      }
+      // What the sonar sees ahead goes on the map (things the plan did not show); something
+      // close ahead stops the robot, and a leg the new marks block is planned again.
+      bool marked = false;
+      for (const devices::ScanPoint& p : scan_()) {
+        if (p.time_ms < aimed_since || p.angle_deg > 60 || p.distance_m >= 2.5) continue;
+        const double horizontal = p.distance_m * std::cos(radians(p.angle_deg));
+        const double vertical = p.distance_m * std::sin(radians(p.angle_deg));
+        if (vertical > options_.clearance_m || horizontal > options_.mark_m) continue;
+        const Vec2 hit{pose.x + std::cos(pose.heading) * horizontal,
+                       pose.y + std::sin(pose.heading) * horizontal};
+        if (!grid_.occupied(grid_.cell_of(hit))) {
+          grid_.add_obstacle(hit, options_.mark_radius_m);
+          seen_.push_back(hit);
+          marked = true;
+        }
+        if (horizontal < options_.stop_m && horizontal < dist + 0.15) {
+          body_.stop();
+          if (!marked) {
+            seen_.push_back(hit);
+            grid_.add_obstacle(hit, options_.mark_radius_m);
+          }
+          return Follow::kBlocked;
+        }
+      }
+      if (marked && !leg_free(pose.position(), wp)) {
+        body_.stop();
+        return Follow::kBlocked;
+      }
+      body_.move(devices::Direction::kForward, options_.forward_speed, move_ms);
+    }
+  }
+  return Follow::kArrived;
+}
+
+}  // namespace marvin::navigation

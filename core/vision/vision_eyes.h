@@ -1,0 +1,50 @@
+// VisionEyes: the host's camera for the Robot API (skills::Eyes, API 1.2): a Camera, the
+// face pipeline and the people gallery in the owner's SQLite store. The camera and the
+// models are opened at the first call, and the camera again after it failed, so a robot
+// whose camera is unplugged keeps running and answers MARVIN_ERR_UNAVAILABLE with the
+// camera's own message until it is back. Thread-safe (one call at a time).
+#ifndef MARVIN_VISION_VISION_EYES_H_
+#define MARVIN_VISION_VISION_EYES_H_
+
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "data/sqlite_store.h"
+#include "skills/eyes.h"
+#include "vision/camera.h"
+#include "vision/face_pipeline.h"
+
+namespace marvin::vision {
+
+class VisionEyes final : public skills::Eyes {
+ public:
+  // `camera`: see open_camera() (a folder camera loops). `store`: null with in-memory data
+  // (then faces are never named and enrolment is unavailable). Photos go to `photos_dir`.
+  VisionEyes(std::string camera, data::SqliteStore* store, std::filesystem::path photos_dir,
+             std::string detector = "blazeface");
+
+  std::string look_json() override;
+  std::string capture_photo(const std::string& skill_id) override;
+  int enroll_face(const std::string& name, int frames, const std::string& who) override;
+  bool forget_face(const std::string& name, const std::string& who) override;
+  void teach_object(const std::string& name) override;
+  std::string find_object_json(const std::string& name) override;
+
+ private:
+  Frame grab();  // throws EyesUnavailable
+  FacePipeline& pipeline();
+
+  std::mutex mutex_;
+  std::string spec_;
+  data::SqliteStore* store_;
+  std::filesystem::path photos_dir_;
+  std::string detector_;
+  std::unique_ptr<Camera> camera_;
+  std::unique_ptr<FacePipeline> pipeline_;
+};
+
+}  // namespace marvin::vision
+
+#endif  // MARVIN_VISION_VISION_EYES_H_

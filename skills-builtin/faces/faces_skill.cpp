@@ -1,0 +1,171 @@
+// Built-in skill "faces": who is in front of the robot, and learning or forgetting faces.
+//   "who is this?" / "who is in front of you?" / "who is at the door?"
+//        -> "That's Anna." / "I see Anna and someone I don't know." / "I don't see anyone."
+//   "what do you see?"       -> the people (and, once objects land, the things) in view
+//   "this is Anna" / "remember this face as Anna"
+//        -> asks "Shall I remember this face as Anna?"; only a yes enrols (from 5 frames)
+//   "forget Anna's face"     -> removes Anna and every embedding of her face
+//   "these are my keys"      -> learns the look of what is held up to the camera
+//   "do you see my keys?"    -> "Yes, I see your keys." / "No, I don't see your keys."
+// Consent: enrolment happens only after the spoken yes (the owner's: Marvin cannot yet tell
+// voices apart) or through `marvin people enroll`; no photo is stored, only the numbers.
+#include <cctype>
+#include <string>
+#include <vector>
+
+#include <marvin/skill.hpp>
+
+namespace {
+
+using nlohmann::json;
+
+constexpr std::uint32_t kEnrolFrames = 5;
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// "anna's" -> "Anna"; "anna maria" -> "Anna Maria".
+std::string person_name(std::string s) {
+  if (s.size() > 2 && s.compare(s.size() - 2, 2, "'s") == 0) s.resize(s.size() - 2);
+  bool start = true;
+  for (char& c : s) {
+    if (start) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    start = c == ' ';
+  }
+  return s;
+}
+
+std::string join_and(const std::vector<std::string>& parts) {
+  std::string out;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (i > 0) out += i + 1 == parts.size() ? " and " : ", ";
+    out += parts[i];
+  }
+  return out;
+}
+
+// "Anna", "someone I don't know", "two people I don't know".
+std::vector<std::string> people_in(const json& seen) {
+  std::vector<std::string> known;
+  int unknown = 0;
+  for (const json& f : seen.value("faces", json::array())) {
+    const std::string name = f.value("name", "");
+    if (name.empty()) ++unknown;
+    else known.push_back(name);
+  }
+  static const char* kCounts[] = {"", "", "two", "three", "four", "five"};
+  if (unknown == 1) known.push_back("someone I don't know");
+  if (unknown > 1) {
+    known.push_back((unknown < 6 ? std::string(kCounts[unknown]) : std::to_string(unknown)) +
+                    " people I don't know");
+  }
+  return known;
+}
+
+class FacesSkill : public marvin::Skill {
+ public:
+  using Skill::Skill;
+
+  void handle(const marvin::Request& r) override {
+    try {
+      if (r.intent == "who") who();
+      else if (r.intent == "what_do_you_see") what_do_you_see();
+      else if (r.intent == "enroll") enroll(person_name(r.slots.at("name").get<std::string>()));
+      else if (r.intent == "forget") forget(person_name(r.slots.at("name").get<std::string>()));
+      else if (r.intent == "teach_object") teach_object(lower(r.slots.at("thing").get<std::string>()));
+      else if (r.intent == "find_object") find_object(lower(r.slots.at("thing").get<std::string>()));
+    } catch (const marvin::Error& e) {
+      if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
+      robot().log(MARVIN_LOG_WARNING, e.what());
+      robot().say("Sorry, I can't see anything right now: my camera is not working.");
+    }
+  }
+
+ private:
+  void who() {
+    const json seen = robot().vision_look();
+    const auto people = people_in(seen);
+    if (people.empty()) {
+      robot().say("I don't see anyone.");
+    } else if (people.size() == 1 && people[0] != "someone I don't know" &&
+               people[0].find("people") == std::string::npos) {
+      robot().say("That's " + people[0] + ".");
+    } else if (people.size() == 1 && people[0] == "someone I don't know") {
+      robot().say("That's someone I don't know.");
+    } else {
+      robot().say("I see " + join_and(people) + ".");
+    }
+  }
+
+  void what_do_you_see() {
+    const json seen = robot().vision_look();
+    std::vector<std::string> things = people_in(seen);
+    for (const json& o : seen.value("objects", json::array())) {
+      things.push_back("a " + o.value("label", "thing"));
+    }
+    robot().say(things.empty() ? "I don't see anything I know." : "I see " + join_and(things) + ".");
+  }
+
+  void enroll(const std::string& name) {
+    const std::string answer =
+        lower(robot().ask("Shall I remember this face as " + name + "?"));
+    if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please do") {
+      robot().say("OK, I won't remember it.");
+      return;
+    }
+    try {
+      robot().vision_enroll_face(name, kEnrolFrames);
+    } catch (const marvin::Error& e) {
+      if (e.status() == MARVIN_ERR_NOT_FOUND) {
+        robot().say("I don't see a face. Please look at me and try again.");
+        return;
+      }
+      if (e.status() == MARVIN_ERR_INVALID) {
+        robot().say("I see more than one face. Please let " + name + " stand alone in front of me.");
+        return;
+      }
+      throw;
+    }
+    robot().say("Nice to meet you, " + name + ". I'll remember your face.");
+  }
+
+  void teach_object(const std::string& thing) {
+    try {
+      robot().vision_teach_object(thing);
+    } catch (const marvin::Error& e) {
+      if (e.status() != MARVIN_ERR_INVALID) throw;
+      robot().say("I can't make out your " + thing + ". Please hold them closer, in front of me.");
+      return;
+    }
+    robot().say("OK, I'll remember what your " + thing + " look like.");
+  }
+
+  void find_object(const std::string& thing) {
+    const auto found = robot().vision_find_object(thing);
+    if (!found) {
+      robot().say("I don't know what your " + thing + " look like. Show them to me and say "
+                  "\"these are my " + thing + "\".");
+    } else if (found->value("found", false)) {
+      robot().say("Yes, I see your " + thing + ".");
+    } else {
+      robot().say("No, I don't see your " + thing + ".");
+    }
+  }
+
+  void forget(const std::string& name) {
+    try {
+      robot().vision_forget_face(name);
+    } catch (const marvin::Error& e) {
+      if (e.status() != MARVIN_ERR_NOT_FOUND) throw;
+      robot().say("I don't know " + name + "'s face.");
+      return;
+    }
+    robot().say("OK, I forgot " + name + "'s face.");
+  }
+};
+
+}  // namespace
+
+MARVIN_SKILL(FacesSkill, "faces")

@@ -1,0 +1,134 @@
+// The home skill with the MockRobot's scripted devices: what it says and what it sends.
+#include <doctest/doctest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <marvin/testing/mock_robot.hpp>
+#include <marvin/testing/skill_harness.hpp>
+
+#include "resolve.h"
+
+using Lines = std::vector<std::string>;
+using nlohmann::json;
+
+namespace {
+
+void world(marvin::testing::SkillHarness& h) {
+  auto& r = h.robot();
+  r.add_device(R"({"id": "hall", "name": "hall light", "room": "hall"})");
+  r.add_device(R"({"id": "lamp", "name": "living room lamp", "room": "living room", "dimmable": true,
+                   "aliases": ["big lamp"]})");
+  r.add_device(R"({"id": "kitchen", "name": "kitchen light", "room": "kitchen", "dimmable": true})");
+  r.add_device(R"({"id": "bed", "name": "bedroom light", "room": "bedroom", "dimmable": true})");
+  r.add_device(R"({"id": "fan", "name": "bedroom fan", "room": "bedroom", "type": "fan"})");
+  r.add_device(R"({"id": "bath", "name": "bathroom light", "room": "bathroom"})");
+  r.add_device(R"({"id": "tv", "name": "tv", "room": "living room", "type": "switch"})");
+}
+
+// The smart-home commands among the robot's actions (the harness adds light changes).
+Lines sent(marvin::testing::SkillHarness& h) {
+  Lines out;
+  for (const std::string& a : h.robot().actions()) {
+    if (a.rfind("smarthome_set", 0) == 0) out.push_back(a);
+  }
+  return out;
+}
+
+json state(marvin::testing::SkillHarness& h, const std::string& id) {
+  return json::parse(*h.robot().device(id));
+}
+
+TEST_CASE("turn on the bedroom light; switch off the fan; is the kitchen light on") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);
+  CHECK(h.intent_of("turn on the bedroom light") == "home/turn_on");
+  CHECK(h.say("turn on the bedroom light") == Lines{"The bedroom light is on."});
+  CHECK(state(h, "bed")["on"] == true);
+  CHECK(sent(h) == Lines{R"(smarthome_set bed {"on":true})"});
+  h.robot().clear();
+  CHECK(h.say("switch on the fan") == Lines{"The bedroom fan is on."});
+  CHECK(h.say("switch off the fan") == Lines{"The bedroom fan is off."});
+  CHECK(h.say("is the kitchen light on?") == Lines{"No, the kitchen light is off."});
+  CHECK(h.say("is the fan on") == Lines{"No, the bedroom fan is off."});
+  CHECK(h.say("switch on the big lamp") == Lines{"The living room lamp is on."});
+}
+
+TEST_CASE("dim the living room lights to 30 percent, then make it brighter") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);
+  CHECK(h.intent_of("dim the living room lights to 30 percent") == "home/set_level");
+  CHECK(h.say("dim the living room lights to 30 percent") ==
+        Lines{"The living room lamp is on, at 30 percent."});
+  CHECK(state(h, "lamp")["brightness"] == 30);
+  CHECK(h.intent_of("make it brighter") == "home/brighter");
+  CHECK(h.say("make it brighter") == Lines{"The living room lamp is on, at 55 percent."});
+  CHECK(sent(h).back() == R"(smarthome_set lamp {"brightness":55,"on":true})");
+  CHECK(h.say("dim the tv to 20 percent") == Lines{"The tv can't be dimmed."});
+}
+
+TEST_CASE("turn everything off in the bedroom") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);
+  h.say("turn on the bedroom light");
+  h.say("turn on the fan");
+  h.robot().clear();
+  CHECK(h.intent_of("turn everything off in the bedroom") == "home/all_off");
+  CHECK(h.say("turn everything off in the bedroom") == Lines{"Everything in the bedroom is off."});
+  CHECK(sent(h) ==
+        Lines{R"(smarthome_set bed {"on":false})", R"(smarthome_set fan {"on":false})"});
+  CHECK(state(h, "fan")["on"] == false);
+}
+
+TEST_CASE("an ambiguous light is asked about; the answer picks it") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);
+  h.robot().set_room("study");  // no light here, so "the light" could be any
+  Lines said = h.say("turn on the light", {"the kitchen one"});
+  REQUIRE(said.size() == 2);
+  CHECK(said[0] ==
+        "The hall light, the living room lamp, the kitchen light, the bedroom light or the "
+        "bathroom light?");
+  CHECK(said[1] == "The kitchen light is on.");
+  CHECK(sent(h) == Lines{R"(smarthome_set kitchen {"on":true})"});
+
+  h.robot().clear();
+  CHECK(h.say("turn off the bedroom thing", {"the bedroom fan"}) ==
+        Lines{"The bedroom light or the bedroom fan?", "The bedroom fan is off."});
+  // The room the robot is in settles it without a question.
+  h.robot().set_room("bedroom");
+  CHECK(h.say("turn on the light") == Lines{"The bedroom light is on."});
+}
+
+TEST_CASE("a device that does not answer, and an unreachable hub, are said as such") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);
+  h.robot().set_device_answers("fan", false);
+  CHECK(h.say("turn on the fan") == Lines{"The bedroom fan didn't answer."});
+  CHECK(state(h, "fan")["on"] == false);
+  h.robot().set_broker_reachable(false);
+  CHECK(h.say("turn on the kitchen light") ==
+        Lines{"I can't reach the home's hub right now, so the kitchen light is unchanged. "
+              "I'll keep trying to reconnect."});
+  CHECK(state(h, "kitchen")["on"] == false);
+  CHECK(h.say("turn on the garage door") == Lines{"I don't know a device called the garage door."});
+}
+
+TEST_CASE("resolve: rooms, kinds, plurals") {
+  json devices = json::parse(R"([
+    {"name": "hall light", "room": "hall", "type": "light"},
+    {"name": "living room lamp", "room": "living room", "type": "light"},
+    {"name": "bedroom light", "room": "bedroom", "type": "light"},
+    {"name": "bedroom fan", "room": "bedroom", "type": "fan"},
+    {"name": "tv", "room": "living room", "type": "switch"}])");
+  using marvin_home_skill::resolve;
+  CHECK(resolve(devices, "the living room lights", "").matches == std::vector<std::size_t>{1});
+  CHECK(resolve(devices, "the living room lights", "").plural);
+  CHECK(resolve(devices, "fan", "hall").matches == std::vector<std::size_t>{3});
+  CHECK(resolve(devices, "the lights in the bedroom", "").matches == std::vector<std::size_t>{2});
+  CHECK(resolve(devices, "the light", "hall").matches == std::vector<std::size_t>{0});
+  CHECK(resolve(devices, "the light", "kitchen").matches.size() == 3);
+  CHECK(resolve(devices, "the tv", "").matches == std::vector<std::size_t>{4});
+  CHECK(resolve(devices, "the toaster", "").matches.empty());
+}
+
+}  // namespace

@@ -1,0 +1,71 @@
+// Built-in skill "navigation": "go to the kitchen", "come here", "where are you", through
+// the Robot API's going-places calls (API 1.2). "stop" is the manager's: it cancels the
+// running go_to, which stops the wheels before it returns.
+#include <cctype>
+#include <marvin/skill.hpp>
+#include <string>
+
+namespace {
+
+// "The Kitchen" -> "kitchen": how the robot's map compares names.
+std::string plain(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (s.rfind("the ", 0) == 0) s.erase(0, 4);
+  while (!s.empty() && (s.back() == '.' || s.back() == '!' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+class NavigationSkill : public marvin::Skill {
+ public:
+  using marvin::Skill::Skill;
+
+  void handle(const marvin::Request& request) override {
+    if (request.intent == "where") {
+      std::optional<std::string> room = robot().where_am_i();
+      robot().say(room ? "I'm in the " + *room + "." : "I'm in a doorway, between two rooms.");
+    } else if (request.intent == "come_here") {
+      go("me", "I'm here.");
+    } else if (request.intent == "go_to") {
+      const std::string place = plain(request.slots.value("place", std::string()));
+      go(place, "");
+    } else {
+      throw marvin::Error(MARVIN_ERR_INVALID, "unknown intent '" + request.intent + "'");
+    }
+  }
+
+ private:
+  void go(const std::string& place, const std::string& arrived) {
+    const std::string shown = place == "me" ? "you" : "the " + place;
+    try {
+      robot().say("On my way to " + shown + ".");
+      robot().go_to(place);
+    } catch (const marvin::Error& e) {
+      if (e.status() == MARVIN_ERR_NOT_FOUND) {
+        robot().say(place == "me" ? std::string("Sorry, I don't know where you are.")
+                                  : "Sorry, I don't know where " + shown + " is.");
+        return;
+      }
+      if (e.status() == MARVIN_ERR_UNAVAILABLE) {
+        robot().say("Sorry, I can't get to " + shown + ": " + e.what() + ".");
+        return;
+      }
+      throw;  // cancelled: the manager answers "OK, I stopped."
+    }
+    if (!arrived.empty()) {
+      robot().say(arrived);
+      return;
+    }
+    std::optional<std::string> room = robot().where_am_i();
+    if (room && plain(*room) == place) {
+      robot().say("I'm in the " + *room + ".");
+    } else if (room) {
+      robot().say("I'm at " + shown + ", in the " + *room + ".");
+    } else {
+      robot().say("I'm at " + shown + ".");
+    }
+  }
+};
+
+}  // namespace
+
+MARVIN_SKILL(NavigationSkill, "navigation")

@@ -1,0 +1,63 @@
+// The navigation skill against the mock robot's scripted going places.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <marvin/testing/mock_robot.hpp>
+#include <marvin/testing/skill_harness.hpp>
+#include <string>
+
+using marvin::testing::SkillHarness;
+
+TEST_CASE("go to the kitchen: the robot goes and says where it is") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  h.robot().add_place("kitchen", "kitchen");
+  auto said = h.say("go to the kitchen");
+  CHECK(said == std::vector<std::string>{"On my way to the kitchen.", "I'm in the kitchen."});
+  const auto& actions = h.robot().actions();
+  CHECK(std::find(actions.begin(), actions.end(), "go_to kitchen") != actions.end());
+  CHECK(h.robot().room() == "kitchen");
+  CHECK(h.say("where are you") == std::vector<std::string>{"I'm in the kitchen."});
+}
+
+TEST_CASE("a place in a room, come here, and places the robot does not know") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  h.robot().add_place("the sofa", "living room");
+  h.robot().add_place("me", "living room");
+  CHECK(h.say("go to the sofa").back() == "I'm at the sofa, in the living room.");
+  h.robot().set_room("hall");
+  CHECK(h.say("come here").back() == "I'm here.");
+  CHECK(h.robot().room() == "living room");
+  CHECK(h.say("go to the garage").back() == "Sorry, I don't know where the garage is.");
+}
+
+TEST_CASE("come here without knowing where the user is") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  CHECK(h.say("come here").back() == "Sorry, I don't know where you are.");
+}
+
+TEST_CASE("a blocked way is explained") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  h.robot().block_place("kitchen", "the kitchen door is blocked");
+  CHECK(h.say("go to the kitchen").back() ==
+        "Sorry, I can't get to the kitchen: the kitchen door is blocked.");
+  CHECK(h.robot().room() == "hall");
+}
+
+TEST_CASE("between rooms") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  h.robot().set_room("");
+  CHECK(h.say("where are you") == std::vector<std::string>{"I'm in a doorway, between two rooms."});
+}
+
+TEST_CASE("the Robot API checks the permission before going anywhere") {
+  marvin::testing::MockRobot robot("nomotion", {});
+  robot.add_place("kitchen", "kitchen");
+  CHECK(robot.api()->go_to(robot.host(), "kitchen") == MARVIN_ERR_PERMISSION);
+  CHECK(std::string(robot.api()->last_error(robot.host())) ==
+        "permission 'motion' is not granted to skill 'nomotion'");
+  CHECK(robot.room() == "hall");
+  CHECK(robot.actions().empty());
+  marvin_text_out out{nullptr, 0, 0};
+  CHECK(robot.api()->where_am_i(robot.host(), &out) == MARVIN_ERR_PERMISSION);
+  CHECK(robot.api()->minor == 2);
+}

@@ -1,0 +1,108 @@
+// End to end: `marvin run --sim` with a real mosquitto and marvin-home-sim, typed requests
+// on stdin, the simulator's devices and Marvin's own topics on the bus checked.
+#include <doctest/doctest.h>
+#include <signal.h>
+#include <sys/stat.h>
+
+#include <nlohmann/json.hpp>
+
+#include "home_fixture.h"
+#include "support/files.h"
+
+namespace marvin::home::testing {
+namespace {
+
+ChildProcess run_marvin(std::vector<std::string> extra) {
+  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--no-builtin-skills",
+                                "--skills-dir", MARVIN_HOME_SKILL_DIR};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  test_support::ChildOptions o;
+  o.err = test_support::ChildStream::kNull;
+  ChildProcess marvin(argv, o);
+  marvin.wait_for_line_containing("[home: 7 devices on");
+  return marvin;
+}
+
+TEST_CASE("marvin run --sim: \"turn on the kitchen light\" turns on the simulator's light") {
+  MosquittoBroker broker;
+  ChildProcess sim = start_sim(broker);
+  ChildProcess marvin = run_marvin({"--mqtt", broker.address()});
+  marvin.send_line("turn on the kitchen light");
+  marvin.wait_for_line("Marvin: The kitchen light is on.");
+  sim.wait_for_line("kitchen light: ON 254");
+  marvin.send_line("dim the living room lights to 30 percent");
+  marvin.wait_for_line("Marvin: The living room lamp is on, at 30 percent.");
+  sim.wait_for_line("living room lamp: ON 76");
+  marvin.send_line("is the kitchen light on?");
+  marvin.wait_for_line("Marvin: Yes, the kitchen light is on.");
+  CHECK(test_support::exit_code(marvin.finish()) == 0);
+}
+
+TEST_CASE("marvin run --sim: the ambiguity question, and the room from the config file") {
+  MosquittoBroker broker;
+  ChildProcess sim = start_sim(broker);
+  test_support::TempDir dir;
+  test_support::write_text(dir / "home.json",
+                           R"({"broker": {"host": "127.0.0.1", "port": )" +
+                               std::to_string(broker.port()) +
+                               R"(}, "site": "e2e", "room": "study", "commands": true})");
+  Peer peer(broker);
+  peer.subscribe("marvin/e2e/#");
+  peer.subscribe("homeassistant/sensor/marvin_e2e/+/config");
+  REQUIRE(peer.wait_connected());
+  ChildProcess marvin = run_marvin({"--home-config", (dir / "home.json").string()});
+  marvin.send_line("turn on the light");
+  marvin.wait_for_line(
+      "Marvin: The bathroom light, the bedroom light, the hall light, the kitchen light or the "
+      "living room lamp?");
+  marvin.send_line("the hall one");
+  marvin.wait_for_line("Marvin: The hall light is on.");
+  sim.wait_for_line("hall light: ON");
+
+  // Marvin on the bus: availability, status with the room, Home Assistant discovery.
+  CHECK(peer.wait_message("marvin/e2e/availability", "online"));
+  CHECK(peer.wait_message("marvin/e2e/status", R"("room":"study")"));
+  std::optional<std::string> sensor =
+      peer.wait_message("homeassistant/sensor/marvin_e2e/activity/config");
+  REQUIRE(sensor);
+  nlohmann::json config = nlohmann::json::parse(*sensor);
+  CHECK(config["state_topic"] == "marvin/e2e/status");
+  CHECK(config["availability_topic"] == "marvin/e2e/availability");
+  // Commands are enabled in this config: "say" on its documented topic.
+  REQUIRE(peer.publish("marvin/e2e/command/say", "Dinner is ready."));
+  marvin.wait_for_line("Marvin: Dinner is ready.");
+  // A crash: the broker publishes the last will.
+  marvin.stop(SIGKILL);
+  CHECK(peer.wait_message("marvin/e2e/availability", "offline"));
+}
+
+TEST_CASE("marvin run --sim without a broker: says the hub is unreachable, keeps running") {
+  const int port = test_support::free_tcp_port();  // nobody listens there
+  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--no-builtin-skills",
+                                "--skills-dir", MARVIN_HOME_SKILL_DIR, "--mqtt",
+                                "127.0.0.1:" + std::to_string(port)};
+  test_support::ChildOptions o;
+  o.err = test_support::ChildStream::kNull;
+  ChildProcess marvin(argv, o);
+  marvin.wait_for_line_containing("not reachable after 3 s; still trying]");
+  marvin.send_line("turn on the kitchen light");
+  marvin.wait_for_line("Marvin: I can't reach the home's hub right now. I'll keep trying.");
+  CHECK(test_support::exit_code(marvin.finish()) == 0);
+}
+
+TEST_CASE("a password file other users can read is refused before anything starts") {
+  test_support::TempDir dir;
+  test_support::write_text(dir / "pw", "secret\n");
+  ::chmod((dir / "pw").c_str(), 0644);
+  test_support::write_text(dir / "home.json",
+                           R"({"broker": {"user": "marvin", "password_file": "pw"}})");
+  std::vector<std::string> argv{MARVIN_EXE, "run", "--sim", "--in-memory", "--home-config",
+                                (dir / "home.json").string()};
+  ChildProcess marvin(argv);
+  int status = marvin.finish();
+  CHECK(test_support::exit_code(status) == 2);
+  CHECK(marvin.errors().find("has mode 0644: other users may read it") != std::string::npos);
+}
+
+}  // namespace
+}  // namespace marvin::home::testing
