@@ -703,7 +703,10 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     return u;
   }
   const float p2 = order.size() > 1 ? p[order[1]] : 0.0F;
-  const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost;
+  // A forgiving parse must rest on at least two of the template's own words: one function
+  // word plus a free-text slot ("is {device} on" for "is flu contagious") fits almost anything.
+  const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost &&
+                        (parses[0]->cost == 0 || parses[0]->literal_words >= 2);
   if ((p1 > p_none * kNoneRatio && p1 >= kAcceptProbability) ||
       (low_cost && p1 >= kAcceptWithTemplate && p1 >= p_none * kNoneRatioWithTemplate)) {
     u.match = reading(0);
