@@ -62,9 +62,7 @@ const std::vector<std::pair<std::string, std::string>> kDefaultLabels{
     {"medication/add", "reminder_set"},
     {"call/*", "call"},
     {"phone/*", "call"},
-    {"smart-home/*", "smart_home"},
-    {"smart_home/*", "smart_home"},
-    {"lights/*", "smart_home"},
+    {"home/*", "smart_home"},  // skills-builtin/home: turn_on, turn_off, set_level, ...
 };
 
 class Labels {

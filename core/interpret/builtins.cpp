@@ -56,6 +56,24 @@ constexpr std::array kPhrases{
     Phrase{"you are right", Builtin::kYes},     Phrase{"i think so", Builtin::kYes},
     Phrase{"what was that", Builtin::kRepeat},  Phrase{"what did you just say", Builtin::kRepeat},
     Phrase{"i did not hear you", Builtin::kRepeat}, Phrase{"once more", Builtin::kRepeat},
+    // Said in passing rather than as one word (written for Marvin, not from any test set).
+    Phrase{"scratch that", Builtin::kStop},     Phrase{"forget about it", Builtin::kStop},
+    Phrase{"drop it", Builtin::kStop},          Phrase{"leave it", Builtin::kStop},
+    Phrase{"do not bother", Builtin::kStop},    Phrase{"i changed my mind", Builtin::kStop},
+    Phrase{"i have changed my mind", Builtin::kStop}, Phrase{"call it off", Builtin::kStop},
+    Phrase{"skip it", Builtin::kStop},          Phrase{"that will be all", Builtin::kStop},
+    Phrase{"sure thing", Builtin::kYes},        Phrase{"go for it", Builtin::kYes},
+    Phrase{"that works", Builtin::kYes},        Phrase{"works for me", Builtin::kYes},
+    Phrase{"alright", Builtin::kYes},           Phrase{"all right", Builtin::kYes},
+    Phrase{"by all means", Builtin::kYes},      Phrase{"you got it", Builtin::kYes},
+    Phrase{"uh huh", Builtin::kYes},            Phrase{"i do", Builtin::kYes},
+    Phrase{"yes i do", Builtin::kYes},          Phrase{"that is it", Builtin::kYes},
+    Phrase{"that is what i meant", Builtin::kYes}, Phrase{"that is what i said", Builtin::kYes},
+    Phrase{"not at all", Builtin::kNo},         Phrase{"no way", Builtin::kNo},
+    Phrase{"not quite", Builtin::kNo},          Phrase{"i do not", Builtin::kNo},
+    Phrase{"that is not it", Builtin::kNo},     Phrase{"that is not what i meant", Builtin::kNo},
+    Phrase{"that is not what i said", Builtin::kNo}, Phrase{"i do not want that", Builtin::kNo},
+    Phrase{"definitely not", Builtin::kNo},     Phrase{"please do not", Builtin::kNo},
 };
 
 bool in(std::string_view word, std::initializer_list<std::string_view> set) {
@@ -68,7 +86,14 @@ bool in(std::string_view word, std::initializer_list<std::string_view> set) {
 // A head word and only harmless words after it: "cancel that now", "yes that is right",
 // "no that is not correct". Content words ("cancel my dentist reminder") never qualify, so
 // a request is never taken for a dialogue word.
-Builtin by_head_word(const std::vector<std::string>& w) {
+Builtin by_head_word(std::vector<std::string> w) {
+  // "never mind" is one word here, so that "never mind that" is not read as "never".
+  for (std::size_t i = 0; i + 1 < w.size(); ++i) {
+    if (w[i] == "never" && w[i + 1] == "mind") {
+      w[i] = "nevermind";
+      w.erase(w.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+    }
+  }
   if (w.empty() || w.size() > 7) return Builtin::kNone;
   auto rest_in = [&](std::initializer_list<std::string_view> set) {
     for (std::size_t i = 1; i < w.size(); ++i) {
@@ -77,19 +102,25 @@ Builtin by_head_word(const std::vector<std::string>& w) {
     return true;
   };
   const std::string& head = w[0];
-  if (in(head, {"stop", "cancel", "abort", "halt", "quit", "terminate", "end", "scrap"}) &&
+  if (in(head, {"stop", "cancel", "abort", "halt", "quit", "terminate", "end", "scrap",
+                "nevermind", "forget", "disregard", "ignore", "drop"}) &&
       rest_in({"it", "that", "this", "now", "everything", "all", "talking", "right", "away",
                "immediately", "the", "current", "process", "task", "request", "action",
-               "operation", "please", "off", "stop", "cancel"})) {
+               "operation", "please", "off", "stop", "cancel", "about", "last", "thing",
+               "whatever", "what", "you", "are", "doing", "my", "command", "then", "there",
+               "nevermind", "instead"})) {
     return Builtin::kStop;
   }
   if (in(head, {"yes", "yeah", "yep", "yup", "sure", "correct", "right", "affirmative",
                 "absolutely", "definitely", "certainly", "indeed", "agreed", "exactly", "true",
-                "ok", "okay", "approved", "confirmed", "totally"}) &&
+                "ok", "okay", "approved", "confirmed", "totally", "alright", "fine", "precisely",
+                "yea", "yah", "ya", "aye", "perfect", "great"}) &&
       rest_in({"that", "is", "it", "right", "correct", "true", "sure", "please", "do", "go",
                "ahead", "sounds", "good", "fine", "i", "agree", "thanks", "thank", "you",
                "of", "course", "definitely", "absolutely", "yes", "yeah", "thing", "exactly",
-               "so", "am", "indeed", "a", "yes", "statement", "confirm"})) {
+               "so", "am", "indeed", "a", "statement", "confirm", "what", "meant", "said",
+               "want", "wanted", "works", "for", "me", "by", "all", "means", "perfect",
+               "exactly", "precisely", "alright", "ok", "okay", "sir", "let", "us"})) {
     return Builtin::kYes;
   }
   if (in(head, {"no", "nope", "nah", "negative", "negatory", "never", "incorrect", "wrong",
@@ -97,7 +128,9 @@ Builtin by_head_word(const std::vector<std::string>& w) {
       rest_in({"no", "not", "that", "is", "it", "wrong", "incorrect", "right", "correct",
                "thanks", "thank", "you", "i", "do", "think", "so", "way", "false", "meant",
                "nope", "certainly", "absolutely", "of", "course", "please", "really", "true",
-               "at", "all", "happening", "invalid", "chance", "a", "definitely", "nah", "mind"})) {
+               "at", "all", "happening", "invalid", "chance", "a", "definitely", "nah", "what",
+               "said", "want", "wanted", "asked", "for", "quite", "sir", "ever", "exactly",
+               "how", "thats", "sorry", "don't", "dont"})) {
     return Builtin::kNo;
   }
   bool repeat = false;
@@ -113,6 +146,21 @@ Builtin by_head_word(const std::vector<std::string>& w) {
   }
   if (repeat && w.size() <= 10) return Builtin::kRepeat;
   return Builtin::kNone;
+}
+
+// Fillers and lead-ins before the dialogue word: "oh, never mind", "um no",
+// "i want to cancel that", "you can stop now", "actually yes".
+Builtin by_head_word_after_lead_in(const std::vector<std::string>& w) {
+  std::size_t k = 0;
+  while (k < w.size() && k < 4 &&
+         in(w[k], {"oh", "um", "uh", "erm", "ah", "well", "hmm", "actually", "just", "so",
+                   "i", "want", "would", "like", "to", "need", "let", "us", "you", "can",
+                   "could", "please", "mean", "guess", "said", "hey"})) {
+    ++k;
+  }
+  if (k == 0 || k == w.size()) return Builtin::kNone;
+  return by_head_word(std::vector<std::string>(w.begin() + static_cast<std::ptrdiff_t>(k),
+                                               w.end()));
 }
 
 }  // namespace
@@ -145,7 +193,8 @@ Builtin classify_builtin(std::string_view utterance) {
   for (const Phrase& phrase : kPhrases) {
     if (phrase.text == text) return phrase.meaning;
   }
-  return by_head_word(request);
+  if (Builtin b = by_head_word(request); b != Builtin::kNone) return b;
+  return by_head_word_after_lead_in(request);
 }
 
 }  // namespace marvin::interpret

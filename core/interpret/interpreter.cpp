@@ -313,7 +313,7 @@ constexpr std::size_t kTolerantCandidates = 3;
 constexpr float kAcceptProbability = 0.4F;
 constexpr float kNoneRatio = 2.0F;  // the top intent must be twice as likely as out of scope
 constexpr float kAcceptWithTemplate = 0.15F;  // when a template parses at a low cost
-constexpr float kNoneRatioWithTemplate = 0.4F;
+constexpr float kNoneRatioWithTemplate = 0.3F;
 constexpr float kLowTemplateCost = 1.5F;
 constexpr float kAskEach = 0.2F;
 constexpr float kAskTogether = 0.5F;
@@ -703,7 +703,10 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     return u;
   }
   const float p2 = order.size() > 1 ? p[order[1]] : 0.0F;
-  const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost;
+  // A forgiving parse must rest on at least two of the template's own words: one function
+  // word plus a free-text slot ("is {device} on" for "is flu contagious") fits almost anything.
+  const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost &&
+                        (parses[0]->cost == 0 || parses[0]->literal_words >= 2);
   if ((p1 > p_none * kNoneRatio && p1 >= kAcceptProbability) ||
       (low_cost && p1 >= kAcceptWithTemplate && p1 >= p_none * kNoneRatioWithTemplate)) {
     u.match = reading(0);

@@ -125,6 +125,12 @@ constexpr std::array kSpellings{
     Rewrite{"hrs", "hours"},              Rewrite{"hr", "hours"},
     Rewrite{"secs", "seconds"},           Rewrite{"sec", "seconds"},
     Rewrite{"o'clock", "o'clock"},        Rewrite{"oclock", "o'clock"},
+    // Chat spellings people type.
+    Rewrite{"ya", "you"},                 Rewrite{"u", "you"},
+    Rewrite{"ur", "your"},                Rewrite{"doin", "doing"},
+    Rewrite{"goin", "going"},             Rewrite{"wassup", "what is up"},
+    Rewrite{"whassup", "what is up"},     Rewrite{"sup", "what is up"},
+    Rewrite{"thanx", "thanks"},           Rewrite{"tho", "though"},
 };
 
 // Ordinal words -> "1st" style tokens ("the third" = "the 3rd").

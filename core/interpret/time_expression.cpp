@@ -76,6 +76,7 @@ class TimeReader {
       return std::nullopt;
     }
     if (!have_time && !have_day && !have_recurrence) return std::nullopt;
+    if (phrase.range != DayRange::kNone && have_time) return std::nullopt;  // "next week at 8"
     return phrase;
   }
 
@@ -239,6 +240,8 @@ class TimeReader {
       phrase.day_offset = 2;
       return true;
     }
+    if (read_range(phrase)) return true;
+    at_ = start;
     (void)(accept("on") || accept("next") || accept("this") || accept("coming"));
     bool plural = false;
     if (at_ < w_.size()) {
@@ -249,6 +252,26 @@ class TimeReader {
       }
     }
     at_ = start;
+    return false;
+  }
+
+  // "next week", "this weekend", "over the weekend", "for the week": a span of days.
+  bool read_range(TimePhrase& phrase) {
+    (void)(accept("for") || accept("over") || accept("during") || accept("in"));
+    bool next = false;
+    if (accept("next") || accept("coming") || accept_seq({"the", "coming"})) {
+      next = true;
+    } else {
+      (void)(accept("this") || accept("the"));
+    }
+    if (accept("weekend")) {
+      phrase.range = next ? DayRange::kNextWeekend : DayRange::kThisWeekend;
+      return true;
+    }
+    if (accept("week")) {
+      phrase.range = next ? DayRange::kNextWeek : DayRange::kThisWeek;
+      return true;
+    }
     return false;
   }
 

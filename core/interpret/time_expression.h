@@ -6,6 +6,8 @@
 //                 "20 minutes to 9", "8 in the morning/afternoon/evening", "10 at night"
 //   day           "today", "tonight" (evening hours), "tomorrow", "the day after tomorrow",
 //                 "monday", "on monday", "next monday", "this monday"
+//   day range     "this week", "next week", "this weekend", "next weekend" (no time of day;
+//                 resolved against the clock: the weeks run Monday to Sunday)
 //   relative      "in 20 minutes", "in an hour and a half" (nothing else may follow)
 //   recurrence    "every day", "daily", "each day", "every weekday", "on weekdays",
 //                 "every monday [and wednesday]", "on mondays", "every weekend",
@@ -28,6 +30,8 @@ struct TimeOfDay {
 
 enum class RecurrenceKind { kOnce, kDaily, kWeekdays, kWeekly, kInterval };
 
+enum class DayRange { kNone, kThisWeek, kNextWeek, kThisWeekend, kNextWeekend };
+
 struct TimePhrase {
   RecurrenceKind kind = RecurrenceKind::kOnce;
   std::optional<TimeOfDay> time;            // absent: the day's default time (09:00)
@@ -36,6 +40,7 @@ struct TimePhrase {
   unsigned weekday_mask = 0;                // bit d = weekday d (0 = Sunday ... 6 = Saturday)
   std::optional<std::int64_t> in_seconds;   // "in 20 minutes" (kOnce, nothing else)
   std::int64_t every_seconds = 0;           // kInterval
+  DayRange range = DayRange::kNone;         // "next week" (kOnce, no time of day)
 };
 
 // The whole span must be one expression; nullopt otherwise.

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 #include <date/date.h>
 #include <date/tz.h>
@@ -73,6 +74,27 @@ class Resolver {
     return std::nullopt;
   }
 
+  // First day (offset from today) and length of a day range; weeks run Monday..Sunday.
+  std::pair<int, int> range_days(DayRange range) const {
+    const int monday_based = static_cast<int>((date::weekday(today_).c_encoding() + 6) % 7);
+    const int next_monday = 7 - monday_based;
+    switch (range) {
+      case DayRange::kThisWeek:
+        return {0, 7 - monday_based};
+      case DayRange::kNextWeek:
+        return {next_monday, 7};
+      case DayRange::kThisWeekend:
+        if (monday_based == 6) return {0, 1};  // Sunday: the rest of this weekend
+        if (monday_based == 5) return {0, 2};
+        return {5 - monday_based, 2};
+      case DayRange::kNextWeekend:
+        return {next_monday + 5, 2};
+      case DayRange::kNone:
+        break;
+    }
+    return {0, 1};
+  }
+
   LocalMs local(UtcMs at) const { return utc_to_local(*zone_, at); }
   UtcMs now() const { return now_; }
   const date::time_zone* zone() const { return zone_; }
@@ -100,6 +122,7 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
   Resolver resolver(now_utc_ms, time_zone);
   nlohmann::json recurrence = {{"kind", "once"}};
   std::optional<UtcMs> at;
+  int range_days = 0;
 
   if (phrase.in_seconds) {
     at = resolver.now() + std::chrono::seconds(*phrase.in_seconds);
@@ -125,7 +148,13 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
     }
     switch (phrase.kind) {
       case RecurrenceKind::kOnce:
-        if (phrase.day_offset) {
+        if (phrase.range != DayRange::kNone) {
+          // The first day's default hour, or now when that has passed (today is in range).
+          const auto [first, count] = resolver.range_days(phrase.range);
+          range_days = count;
+          at = resolver.first_after_now(first, first, 0, hour, minute);
+          if (!at) at = resolver.now();
+        } else if (phrase.day_offset) {
           int day = *phrase.day_offset;
           at = resolver.first_after_now(day, day, 0, hour, minute);
         } else if (phrase.weekday_mask != 0) {
@@ -155,13 +184,15 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
     }
   }
   if (!at) return std::nullopt;
-  return nlohmann::json{
+  nlohmann::json value{
       {"at", format_local(resolver.local(*at))},
       {"utc_ms", at->time_since_epoch().count()},
       {"time_zone", time_zone},
       {"time_given", phrase.time.has_value() || phrase.in_seconds.has_value() ||
                          phrase.kind == RecurrenceKind::kInterval},
       {"recurrence", recurrence}};
+  if (range_days > 0) value["days"] = range_days;
+  return value;
 }
 
 }  // namespace marvin::interpret

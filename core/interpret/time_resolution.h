@@ -6,6 +6,9 @@
 //     {"kind":"weekly","weekdays":["monday"],"time":"10:00"},
 //     {"kind":"interval","every_seconds":7200}
 //
+//   a day range ("next week", "this weekend") adds "days":N; "at" is then its first day
+//   (09:00, or now when the range starts today after 09:00).
+//
 // "at" is the first occurrence strictly after now, as local wall time. Rules:
 // - An ambiguous hour ("at 8") on its own is the next of 08:00 / 20:00. With a day or a
 //   recurrence it reads 7..11 as morning and 1..6 as afternoon ("tomorrow at 3" = 15:00);

@@ -109,14 +109,27 @@ class TolerantRun {
     const std::size_t longest = std::min(n - pos, reader_.max_words(slot_index));
     for (std::size_t length = 1; length <= longest; ++length) {
       if (hopeless(current_.cost)) return;
-      auto value = reader_.read(slot_index, in_.words.subspan(pos, length));
+      const std::optional<SlotValue>& value = read(slot_index, pos, length);
       if (!value) continue;
-      current_.slots.push_back({slot_index, std::move(*value)});
+      current_.slots.push_back({slot_index, *value});
       step(pc + 1, pos + length);
       current_.slots.pop_back();
     }
   }
 
+  // Slot values are parsed once per (slot, start, length): backtracking tries the same
+  // span on many paths, and a datetime parse is the costliest step here.
+  const std::optional<SlotValue>& read(int slot_index, std::size_t pos, std::size_t length) {
+    const std::size_t n = in_.words.size();
+    const std::size_t key = (static_cast<std::size_t>(slot_index) * (n + 1) + pos) * (n + 1) + length;
+    auto it = reads_.find(key);
+    if (it == reads_.end()) {
+      it = reads_.emplace(key, reader_.read(slot_index, in_.words.subspan(pos, length))).first;
+    }
+    return it->second;
+  }
+
+  std::unordered_map<std::size_t, std::optional<SlotValue>> reads_;
   const std::vector<Instruction>& program_;
   const TolerantInput& in_;
   const std::vector<std::string>& word_stems_;

@@ -178,7 +178,12 @@ class ScheduleSkill : public marvin::Skill {
 
   void handle(const marvin::Request& request) override {
     if (request.intent == "remind") return remind(request);
-    if (request.intent == "agenda") return agenda(parse_local(request.slots.at("when").at("at")).day);
+    if (request.intent == "agenda") {
+      const json& when = request.slots.at("when");
+      const date::local_days first = parse_local(when.at("at")).day;
+      if (when.value("days", 1) > 1) return agenda_range(first, when.at("days").get<int>());
+      return agenda(first);
+    }
     if (request.intent == "agenda_today") return agenda(today());
     if (request.intent == "cancel") return cancel(request.slots.at("task").get<std::string>());
     if (request.intent == "snooze") return snooze(request);
@@ -315,6 +320,43 @@ class ScheduleSkill : public marvin::Skill {
   // The reminders that fire on local `day`: one-off ones on that day, and recurring ones
   // whose rule includes the day (from their next occurrence on).
   void agenda(date::local_days day) {
+    const std::vector<Entry> entries = entries_on(day);
+    const std::string when = spoken_day(day, today());
+    if (entries.empty()) {
+      robot().say("You have nothing on your schedule " + when + ".");
+      return;
+    }
+    std::vector<std::string> texts;
+    for (const Entry& e : entries) texts.push_back(e.text);
+    robot().say(capital(when) + ": " + join_and(texts) + ".");
+  }
+
+  // "next week", "this weekend": each day that has something, in order.
+  void agenda_range(date::local_days first, int days) {
+    std::vector<std::string> parts;
+    for (int i = 0; i < days; ++i) {
+      const date::local_days day = first + date::days(i);
+      const std::vector<Entry> entries = entries_on(day);
+      if (entries.empty()) continue;
+      std::vector<std::string> texts;
+      for (const Entry& e : entries) texts.push_back(e.text);
+      parts.push_back(capital(spoken_day(day, today())) + ": " + join_and(texts) + ".");
+    }
+    if (parts.empty()) {
+      auto bare = [this](date::local_days d) {  // "Monday, 7 December", not "on Monday, ..."
+        std::string t = spoken_day(d, today());
+        return t.rfind("on ", 0) == 0 ? t.substr(3) : t;
+      };
+      robot().say("You have nothing on your schedule from " + bare(first) + " to " +
+                  bare(first + date::days(days - 1)) + ".");
+      return;
+    }
+    std::string text;
+    for (const std::string& p : parts) text += (text.empty() ? "" : " ") + p;
+    robot().say(text);
+  }
+
+  std::vector<Entry> entries_on(date::local_days day) {
     const json all = robot().schedule_list(0, std::numeric_limits<std::int64_t>::max());
     std::vector<Entry> entries;
     for (const json& r : all) {
@@ -338,14 +380,7 @@ class ScheduleSkill : public marvin::Skill {
     }
     std::stable_sort(entries.begin(), entries.end(),
                      [](const Entry& a, const Entry& b) { return a.minute_of_day < b.minute_of_day; });
-    const std::string when = spoken_day(day, today());
-    if (entries.empty()) {
-      robot().say("You have nothing on your schedule " + when + ".");
-      return;
-    }
-    std::vector<std::string> texts;
-    for (const Entry& e : entries) texts.push_back(e.text);
-    robot().say(capital(when) + ": " + join_and(texts) + ".");
+    return entries;
   }
 
   void cancel(const std::string& task) {

@@ -51,6 +51,19 @@ TEST_CASE("remind me every day at 9 to water the plants; what's on my schedule")
   CHECK(h.say("what's on my schedule") == Lines{"Today: take your pills at 8 PM."});
 }
 
+TEST_CASE("what do i have next week / this week / this weekend: each day with something") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);  // Monday 2026-01-05
+  h.say("remind me every tuesday at 10 to go swimming");
+  h.say("remind me tomorrow at 3 pm to buy milk");
+  CHECK(h.say("what do i have next week") ==
+        Lines{"On Tuesday, 13 January: go swimming at 10 AM."});
+  CHECK(h.say("what's on my calendar this week") ==
+        Lines{"Tomorrow: go swimming at 10 AM and buy milk at 3 PM."});
+  CHECK(h.say("what's on my schedule this weekend") ==
+        Lines{"You have nothing on your schedule from Saturday, 10 January to Sunday, 11 January."});
+}
+
 TEST_CASE("cancel the pill reminder: only the matching one goes") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   berlin(h);

@@ -278,6 +278,13 @@ TEST_CASE("builtins: stop, yes, no, repeat") {
       {"", Builtin::kNone},              {"marvin", Builtin::kNone},
       {"stop the music", Builtin::kNone}, {"yes no", Builtin::kNone},
       {"what time is it", Builtin::kNone}, {"please", Builtin::kNone},
+      // After fillers and lead-ins; "never mind that" is stop, not "never".
+      {"oh never mind that", Builtin::kStop}, {"i want to cancel that", Builtin::kStop},
+      {"um forget it", Builtin::kStop},  {"scratch that", Builtin::kStop},
+      {"actually yes", Builtin::kYes},   {"sure thing", Builtin::kYes},
+      {"well no", Builtin::kNo},         {"not at all", Builtin::kNo},
+      {"i want to cancel my dentist reminder", Builtin::kNone},
+      {"oh stop the music", Builtin::kNone}, {"i want to know the time", Builtin::kNone},
   };
   for (const Case& c : cases) {
     std::string utterance = c.utterance;

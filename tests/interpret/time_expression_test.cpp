@@ -172,13 +172,47 @@ TEST_CASE("time expressions: other zones and UTC") {
   CHECK(when("tomorrow at 8", context)["at"] == "2024-07-02T08:00");
 }
 
+TEST_CASE("time expressions: day ranges (weeks run Monday to Sunday)") {
+  Context context = berlin_friday();
+  struct Case {
+    const char* text;
+    const char* at;
+    int days;
+  };
+  const Case cases[] = {
+      {"next week", "2024-04-01T09:00", 7},
+      {"for next week", "2024-04-01T09:00", 7},
+      {"this week", "2024-03-29T10:00", 3},  // 09:00 today has passed: from now to Sunday
+      {"this weekend", "2024-03-30T09:00", 2},
+      {"over the weekend", "2024-03-30T09:00", 2},
+      {"next weekend", "2024-04-06T09:00", 2},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.text);
+    auto value = when(c.text, context);
+    REQUIRE(value.is_object());
+    CHECK(value["at"] == c.at);
+    CHECK(value["days"] == c.days);
+    CHECK(value["time_given"] == false);
+  }
+  CHECK_FALSE(when("tomorrow", context).contains("days"));
+  // Saturday: "this weekend" is today and tomorrow; Sunday: just today.
+  context.now_utc_ms = utc_ms(2024_y / 3 / 30, hours(6));  // 07:00 local
+  CHECK(when("this weekend", context)["at"] == "2024-03-30T09:00");
+  CHECK(when("this weekend", context)["days"] == 2);
+  context.now_utc_ms = utc_ms(2024_y / 3 / 31, hours(5));  // 07:00 local (CEST)
+  CHECK(when("this weekend", context)["days"] == 1);
+  CHECK(when("next week", context)["at"] == "2024-04-01T09:00");
+}
+
 TEST_CASE("time expressions: not times") {
   Context context = berlin_friday();
   const char* cases[] = {"",         "at",          "at 25",           "at 13 pm",
                          "tomorrow tomorrow",       "every",           "in",
                          "in 20",    "at 8 at 9",   "today at 8 am",   "eight apples",
                          "at 7:75",  "every 2 hours at 8",             "in 20 minutes tomorrow",
-                         "on",       "every 10 seconds"};
+                         "on",       "every 10 seconds",          "next week at 8",
+                         "the week after"};
   for (const char* text : cases) {
     CAPTURE(text);
     CHECK(when(text, context).is_null());

@@ -108,6 +108,7 @@ TEST_CASE("normalise: contractions, spellings, ordinals, time formats") {
   CHECK(mi::normalize("half past two") == Words{"half", "past", "2"});
   CHECK(mi::normalize("quarter to nine") == Words{"quarter", "to", "9"});
   CHECK(mi::normalize("10 mins") == Words{"10", "minutes"});
+  CHECK(mi::normalize("how ya doin") == Words{"how", "you", "doing"});
 }
 
 TEST_CASE("politeness and filler around a request are dropped, never the whole request") {
@@ -216,6 +217,28 @@ TEST_CASE("the threshold declines requests no skill serves") {
     CHECK(u.outcome != Understanding::Outcome::kMatch);
   }
   CHECK(acted == 0);
+}
+
+TEST_CASE("a forgiving parse needs two of the template's own words, not one plus free text") {
+  Interpreter in = small_home();
+  mi::IntentSpec query{"devices",
+                       "query",
+                       {"(is|are) [the] {device} (on|off)"},
+                       {{"device", SlotType::kText, {}}}};
+  query.examples = {"is the kitchen light on", "are the lights off", "is the fan still on",
+                    "is the tv on", "are the bedroom lamps on"};
+  in.add(query);
+  Context context = fixed_context();
+  Understanding on = in.understand("is the hall light on", context);
+  REQUIRE(on.outcome == Understanding::Outcome::kMatch);
+  CHECK(on.match->intent == "query");
+  // Written for this test: yes/no questions about the world, not about devices.
+  // Each fits "(is|are) {device} (on|off)" at cost 1.25 (the last word for "on").
+  for (const char* text : {"is butter healthy", "are penguins birds", "is the fan broken"}) {
+    CAPTURE(text);
+    Understanding u = in.understand(text, context);
+    CHECK(u.outcome != Understanding::Outcome::kMatch);
+  }
 }
 
 TEST_CASE("bad input: a clear reason, no match, and the interpreter unchanged") {

@@ -136,11 +136,26 @@ TEST_CASE("schedules: the README's JSON in and out, stored once acknowledged") {
                            nullptr) == MARVIN_ERR_INVALID);
   CHECK(std::string(api().last_error(c.host())) ==
         "reminder_json: \"recurrence.weekdays\": a weekly reminder needs at least one day");
+  CHECK(api().schedule_add(c.host(), R"({"title":"x","at":"2026-01-05T20:00",
+                                         "utc_ms":1767639660000})",
+                           nullptr) == MARVIN_ERR_INVALID);  // 19:01 UTC: the next minute
+  CHECK(std::string(api().last_error(c.host())) ==
+        "reminder_json: \"utc_ms\": must lie in the minute \"at\" names");
   CHECK(api().schedule_add(c.host(), "{not json", nullptr) == MARVIN_ERR_INVALID);
   CHECK(
       std::string(api().last_error(c.host())).rfind("reminder_json is not valid JSON at byte", 0) ==
       0);
   CHECK(w.data.list_reminders().size() == 1);
+
+  // To the second: a timer's exact instant inside the minute "at" names.
+  out = {buffer, sizeof buffer, 0};
+  REQUIRE(api().schedule_add(c.host(), R"({"title":"timer","at":"2026-01-05T20:00",
+                                           "utc_ms":1767639630500})",
+                             &out) == MARVIN_OK);
+  CHECK(json::parse(std::string(buffer, out.length))["next_fire_utc_ms"] == 1767639630500);
+  CHECK(api().schedule_remove(c.host(),
+                              json::parse(std::string(buffer, out.length))["id"].get<std::int64_t>()) ==
+        MARVIN_OK);
 
   CHECK(api().schedule_remove(c.host(), created["id"].get<std::int64_t>()) == MARVIN_OK);
   CHECK(api().schedule_remove(c.host(), created["id"].get<std::int64_t>()) == MARVIN_ERR_NOT_FOUND);
