@@ -49,9 +49,21 @@ SimCamera::SimCamera(const World& world, std::function<CameraView()> view, Camer
   auto load = [&](const Thing& t) {
     for (const auto& p : t.photos) {
       cv::Mat m = cv::imread(p.string(), cv::IMREAD_COLOR);
-      if (m.empty())
+      if (m.empty()) {
+        // face-api's demo photos are not in the repository: scripts/setup fetches them.
+        const bool fetched = p.string().find(".cache/vision/photos") != std::string::npos;
         throw vision::CameraError("simulated camera: cannot read the photo " + p.string() +
-                                  " of \"" + t.name + "\" in " + world.file.string());
+                                  " of \"" + t.name + "\" in " + world.file.string() +
+                                  (fetched ? " (scripts/setup fetches it)" : ""));
+      }
+      if (t.crop[2] > 0) {
+        const cv::Rect crop(t.crop[0], t.crop[1], t.crop[2], t.crop[3]);
+        if ((crop & cv::Rect(0, 0, m.cols, m.rows)) != crop)
+          throw vision::CameraError("simulated camera: the 'crop' of \"" + t.name + "\" in " +
+                                    world.file.string() + " does not fit in " + p.string() + " (" +
+                                    std::to_string(m.cols) + "x" + std::to_string(m.rows) + ")");
+        m = m(crop).clone();
+      }
       cards_.push_back({&t, m});
       break;  // the first photo; the others are for face enrolment
     }

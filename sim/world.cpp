@@ -309,6 +309,16 @@ World parse_world(const std::string& json_text, const std::filesystem::path& fil
     t.size_m = number(j, "size_m", default_size, w, 0.01, 2.5);
     t.photos = photos(j, base, w);
     if (t.photos.empty()) w.fail("'photo' (or 'photos') is missing: the camera shows it");
+    if (j.contains("crop")) {
+      const json& c = j["crop"];
+      bool ok = c.is_array() && c.size() == 4;
+      for (std::size_t k = 0; ok && k < 4; ++k)
+        ok = c[k].is_number_integer() && c[k].get<int>() >= 0;
+      if (!ok || c[2].get<int>() == 0 || c[3].get<int>() == 0)
+        w.fail(
+            "'crop' must be [x, y, width, height] in pixels (whole numbers, width and height > 0)");
+      for (std::size_t k = 0; k < 4; ++k) t.crop[k] = c[k].get<int>();
+    }
     check_spot(world, walls, t.at, t.room, 0.03, w, "at");
   };
   const json& objects = list(root, "objects", file);

@@ -4,6 +4,7 @@
 // the robot's start pose and dimensions.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -27,6 +28,9 @@ struct Thing {
   double elevation_m = 0;  // how high it sits (on a table: the table's height)
   double size_m = 0.1;     // its height in the picture; its width follows the photo
   std::vector<std::filesystem::path> photos;  // absolute paths
+  // The part of the first photo the camera shows, in pixels {x, y, width, height};
+  // width 0: the whole photo. Lets a world use one face of a group photo.
+  std::array<int, 4> crop{0, 0, 0, 0};
 };
 
 struct Person : Thing {

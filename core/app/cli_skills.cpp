@@ -95,8 +95,7 @@ HostOptions host_options(const RunOptions& o) {
     h.sim_seed = o.seed;
     h.show = o.show;
   }
-  // --sim without --camera looks at the demo photos scripts/setup fetched (none: no camera).
-  h.camera = o.camera.empty() && o.sim ? default_sim_camera() : o.camera;
+  h.camera = o.camera;  // empty with --sim: the simulated home's camera (Host)
   h.home = home_options(o.mqtt, o.home_config);
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
@@ -257,7 +256,7 @@ void install_skill_platform_commands(CLI::App& root) {
                   "With --sim: keep this PNG picture of the floor plan and the robot up to date");
   run->add_option("--camera", options->camera,
                   "The camera skills look through: device:/dev/video0, device:0, folder:DIR or "
-                  "video:FILE (--sim default: the demo photos of scripts/setup)");
+                  "video:FILE (--sim default: the simulated home's camera)");
   run->add_option("--mqtt", options->mqtt,
                   "Smart home: the home's MQTT broker HOST:PORT (no authentication)");
   run->add_option("--home-config", options->home_config,

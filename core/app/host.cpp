@@ -200,12 +200,6 @@ class MirroredBody : public devices::Body {
 
 }  // namespace
 
-std::string default_sim_camera() {
-  std::error_code ec;
-  const std::filesystem::path photos = MARVIN_SIM_CAMERA_DIR;
-  return std::filesystem::is_directory(photos, ec) ? "folder:" + photos.string() : "";
-}
-
 Host::Host(HostOptions options, std::function<void(std::string_view)> write_line)
     : options_(std::move(options)), console_(std::move(write_line)), body_(console_) {
   if (options_.fixed_now_ms) {
@@ -263,9 +257,18 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
     services_.body = mirrored_body_.get();
     services_.going_places = &sim_home_->navigator();
   }
+  const auto data_dir =
+      store_ ? store_->path().parent_path() : std::filesystem::temp_directory_path();
   if (!options_.camera.empty()) {
-    const auto data_dir = store_ ? store_->path().parent_path() : std::filesystem::temp_directory_path();
     eyes_ = std::make_unique<vision::VisionEyes>(options_.camera, store_.get(), data_dir / "photos");
+    services_.eyes = eyes_.get();
+  } else if (sim_home_) {
+    // No --camera in the simulated home: skills look through the robot's simulated head
+    // camera. VisionEyes reads it under its own lock; each frame takes the pose under the
+    // runner's lock, so skill threads never race the simulation thread.
+    eyes_ =
+        std::make_unique<vision::VisionEyes>([home = sim_home_.get()] { return home->camera(); },
+                                             "simulated camera", store_.get(), data_dir / "photos");
     services_.eyes = eyes_.get();
   }
   services_.time_zone = options_.time_zone.empty() ? system_time_zone() : options_.time_zone;
@@ -325,6 +328,7 @@ Host::~Host() {
   registry_.reset();  // then the skills go
   serial_navigation_.reset();
   mirrored_body_.reset();
+  eyes_.reset();  // the simulated camera reads the sim's world
   sim_home_.reset();
 }
 

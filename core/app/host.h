@@ -90,16 +90,13 @@ struct HostOptions {
   std::uint64_t sim_seed = 1;
   std::filesystem::path show;  // keep this PNG of the floor plan up to date
   // The camera skills look through (Robot API 1.2; vision/cameras.h: "folder:DIR",
-  // "video:FILE", "device:/dev/video0"). Empty: no camera (vision_* are unavailable).
+  // "video:FILE", "device:/dev/video0"). Empty: the simulated home's camera with a world file
+  // (SimHome::camera()), else no camera (vision_* are unavailable).
   std::string camera;
   // Smart home over the home's MQTT broker (core/home): devices for the skills, Marvin's
   // activity and events on the bus. nullopt: no smart home.
   std::optional<home::HomeConfig> home;
 };
-
-// The folder camera `marvin run --sim` uses when no --camera is given: the demo photos
-// scripts/setup fetched (empty if they are not there).
-std::string default_sim_camera();
 
 // Where this build put its built-in skills (<build>/skills).
 std::filesystem::path builtin_skills_dir();

@@ -20,10 +20,21 @@ VisionEyes::VisionEyes(std::string camera, data::SqliteStore* store,
       photos_dir_(std::move(photos_dir)),
       detector_(std::move(detector)) {}
 
+VisionEyes::VisionEyes(std::function<std::unique_ptr<Camera>()> open, std::string name,
+                       data::SqliteStore* store, std::filesystem::path photos_dir,
+                       std::string detector)
+    : spec_(std::move(name)),
+      open_(std::move(open)),
+      store_(store),
+      photos_dir_(std::move(photos_dir)),
+      detector_(std::move(detector)) {}
+
 Frame VisionEyes::grab() {
   try {
     if (!camera_) {
-      if (spec_.rfind("folder:", 0) == 0) {
+      if (open_) {
+        camera_ = open_();
+      } else if (spec_.rfind("folder:", 0) == 0) {
         camera_ = std::make_unique<FolderCamera>(spec_.substr(7), /*loop=*/true);
       } else {
         camera_ = open_camera(spec_);

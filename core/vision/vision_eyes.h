@@ -7,6 +7,7 @@
 #define MARVIN_VISION_VISION_EYES_H_
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -24,6 +25,12 @@ class VisionEyes final : public skills::Eyes {
   // (then faces are never named and enrolment is unavailable). Photos go to `photos_dir`.
   VisionEyes(std::string camera, data::SqliteStore* store, std::filesystem::path photos_dir,
              std::string detector = "blazeface");
+  // Looks through the camera `open` makes (called at the first look, and again after a
+  // camera error); `name` names it in errors. `marvin run --sim` passes the simulated
+  // home's camera this way.
+  VisionEyes(std::function<std::unique_ptr<Camera>()> open, std::string name,
+             data::SqliteStore* store, std::filesystem::path photos_dir,
+             std::string detector = "blazeface");
 
   std::string look_json() override;
   std::string capture_photo(const std::string& skill_id) override;
@@ -38,6 +45,7 @@ class VisionEyes final : public skills::Eyes {
 
   std::mutex mutex_;
   std::string spec_;
+  std::function<std::unique_ptr<Camera>()> open_;  // null: open spec_
   data::SqliteStore* store_;
   std::filesystem::path photos_dir_;
   std::string detector_;
