@@ -41,7 +41,7 @@ TEST_CASE("marvin run --sim: \"turn on the kitchen light\" turns on the simulato
   CHECK(test_support::exit_code(marvin.finish()) == 0);
 }
 
-TEST_CASE("marvin run --sim: the ambiguity question, and the room from the config file") {
+TEST_CASE("marvin run --sim: 'the light' is the one in the robot's room; Marvin on the bus") {
   MosquittoBroker broker;
   ChildProcess sim = start_sim(broker);
   test_support::TempDir dir;
@@ -54,17 +54,17 @@ TEST_CASE("marvin run --sim: the ambiguity question, and the room from the confi
   peer.subscribe("homeassistant/sensor/marvin_e2e/+/config");
   REQUIRE(peer.wait_connected());
   ChildProcess marvin = run_marvin({"--home-config", (dir / "home.json").string()});
+  // The simulated robot starts in the hall: the navigator's room wins over the config's
+  // "study" (which only stands in on a robot without a map), so "the light" is the hall's.
+  // The ambiguity question itself, for a room without a light, is in the skill's tests
+  // (skills-builtin/home/home_skill_test.cpp).
   marvin.send_line("turn on the light");
-  marvin.wait_for_line(
-      "Marvin: The bathroom light, the bedroom light, the hall light, the kitchen light or the "
-      "living room lamp?");
-  marvin.send_line("the hall one");
   marvin.wait_for_line("Marvin: The hall light is on.");
   sim.wait_for_line("hall light: ON");
 
   // Marvin on the bus: availability, status with the room, Home Assistant discovery.
   CHECK(peer.wait_message("marvin/e2e/availability", "online"));
-  CHECK(peer.wait_message("marvin/e2e/status", R"("room":"study")"));
+  CHECK(peer.wait_message("marvin/e2e/status", R"("room":"hall")"));
   std::optional<std::string> sensor =
       peer.wait_message("homeassistant/sensor/marvin_e2e/activity/config");
   REQUIRE(sensor);
