@@ -1,5 +1,6 @@
 #include "interpret/builtins.h"
 
+#include <algorithm>
 #include <array>
 #include <string>
 #include <utility>
@@ -135,7 +136,16 @@ Builtin by_head_word(std::vector<std::string> w) {
   }
   bool repeat = false;
   for (std::size_t i = 0; i < w.size(); ++i) {
-    if (w[i] == "repeat" || w[i] == "repeated") repeat = true;
+    // "repeat that", "can you repeat the question", but not "repeat my shopping list".
+    if ((w[i] == "repeat" || w[i] == "repeated") &&
+        std::all_of(w.begin() + static_cast<std::ptrdiff_t>(i) + 1, w.end(), [](const std::string& x) {
+          return in(x, {"that", "it", "this", "please", "again", "yourself", "what", "you", "said",
+                        "say", "just", "the", "last", "thing", "question", "answer", "sentence",
+                        "1", "more", "time", "once", "me", "one", "for", "now", "slowly",
+                        "louder"});
+        })) {
+      repeat = true;
+    }
     if (w[i] == "again" && i > 0 && in(w[i - 1], {"that", "it", "this", "say", "said"})) {
       repeat = true;
     }
@@ -155,12 +165,94 @@ Builtin by_head_word_after_lead_in(const std::vector<std::string>& w) {
   while (k < w.size() && k < 4 &&
          in(w[k], {"oh", "um", "uh", "erm", "ah", "well", "hmm", "actually", "just", "so",
                    "i", "want", "would", "like", "to", "need", "let", "us", "you", "can",
-                   "could", "please", "mean", "guess", "said", "hey"})) {
+                   "could", "please", "mean", "guess", "said", "hey",
+                   // how people address an assistant that is not called by its name
+                   "ai", "assistant", "robot", "computer", "bot"})) {
     ++k;
   }
   if (k == 0 || k == w.size()) return Builtin::kNone;
   return by_head_word(std::vector<std::string>(w.begin() + static_cast<std::ptrdiff_t>(k),
                                                w.end()));
+}
+
+// Edit distance at most one (a typo: "affirmitive", "corect").
+bool one_edit_apart(std::string_view a, std::string_view b) {
+  if (a.size() > b.size()) std::swap(a, b);
+  if (b.size() - a.size() > 1) return false;
+  std::size_t i = 0;
+  while (i < a.size() && a[i] == b[i]) ++i;
+  if (a.size() == b.size()) return a.substr(i + 1) == b.substr(i + 1);
+  return a.substr(i) == b.substr(i + 1);
+}
+
+// +1 for a word that affirms, -1 for one that denies, 0 for neither. Long words also count
+// with one typo.
+int polarity_of(std::string_view word) {
+  static constexpr std::array<std::string_view, 14> kPositive{
+      "yes",       "true",     "right",    "correct",  "accurate", "valid",     "affirmative",
+      "agree",     "agreed",   "accepted", "accept",   "confirmed", "good",     "sense"};
+  static constexpr std::array<std::string_view, 9> kNegative{
+      "no", "false", "wrong", "incorrect", "inaccurate", "invalid", "untrue", "disagree", "nope"};
+  for (std::string_view w : kPositive) {
+    if (word == w || (w.size() >= 7 && one_edit_apart(word, w))) return 1;
+  }
+  for (std::string_view w : kNegative) {
+    if (word == w || (w.size() >= 7 && one_edit_apart(word, w))) return -1;
+  }
+  return 0;
+}
+
+// A short statement of agreement or denial in the person's own words: "the statement is
+// true", "you are not wrong about that", "i would rather not", "invalid", "no good". Every
+// word must be a polarity word, a negation or a harmless word (pronouns, "is", "statement",
+// "i think", "i know"), so a request never qualifies; a negation flips the polarity word it
+// precedes (within two words); all polarity words must then agree. A negation with no
+// polarity word after a wish ("i would rather not", "i would prefer not") is a no.
+Builtin by_polarity(const std::vector<std::string>& w) {
+  if (w.empty() || w.size() > 9) return Builtin::kNone;
+  // A question ("is that true", "are you good") asks, it does not answer.
+  if (in(w[0], {"is", "are", "am", "was", "were", "do", "does", "did"})) return Builtin::kNone;
+  static constexpr std::array<std::string_view, 44> kHarmless{
+      "i", "you", "it", "this", "that", "is", "are", "was", "am", "be", "a", "the", "statement",
+      "answer", "know", "think", "telling", "tell", "want", "to", "about", "as", "well", "quite",
+      "totally", "completely", "so", "very", "said", "meant", "makes", "make", "would", "rather",
+      "prefer", "guess", "sounds", "seems", "indeed", "really", "one", "100", "percent",
+      "perfectly"};
+  auto harmless = [&](const std::string& word) {
+    return std::find(kHarmless.begin(), kHarmless.end(), word) != kHarmless.end();
+  };
+  int sign = 0;
+  bool negated_wish = false;
+  std::size_t negation_at = w.size();  // the last negation not yet used
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const std::string& word = w[i];
+    const bool negation = word == "not" || word == "never" ||
+                          (word == "no" && i + 1 < w.size() && polarity_of(w[i + 1]) != 0);
+    if (negation) {
+      negation_at = i;
+      continue;
+    }
+    int p = polarity_of(word);
+    if (p == 0) {
+      if (!harmless(word)) return Builtin::kNone;
+      continue;
+    }
+    if (negation_at < i && i - negation_at <= 2) {
+      p = -p;
+      negation_at = w.size();
+    }
+    if (sign != 0 && p != sign) return Builtin::kNone;
+    sign = p;
+  }
+  if (sign == 0 && negation_at < w.size()) {
+    for (std::size_t i = 0; i < negation_at; ++i) {
+      if (w[i] == "rather" || w[i] == "prefer") negated_wish = true;
+    }
+    if (negated_wish) return Builtin::kNo;
+  }
+  if (sign > 0) return Builtin::kYes;
+  if (sign < 0) return Builtin::kNo;
+  return Builtin::kNone;
 }
 
 }  // namespace
@@ -194,7 +286,8 @@ Builtin classify_builtin(std::string_view utterance) {
     if (phrase.text == text) return phrase.meaning;
   }
   if (Builtin b = by_head_word(request); b != Builtin::kNone) return b;
-  return by_head_word_after_lead_in(request);
+  if (Builtin b = by_head_word_after_lead_in(request); b != Builtin::kNone) return b;
+  return by_polarity(request);
 }
 
 }  // namespace marvin::interpret

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "interpret/interpreter.h"
+#include "interpret/wordnet.h"
 
 namespace marvin::interpret {
 
@@ -25,10 +26,23 @@ struct LabelledSentence {
   int label = 0;                   // 0..classes-1
 };
 
+// One input feature: "u <stem>", "b <stem> <stem>", "c <4 letters>", "w <WordNet concept>".
+struct Feature {
+  std::string name;
+  float weight = 1.0F;
+};
+
+// Word or collocation -> its WordNet concepts, filled while training.
+using ConceptCache = std::unordered_map<std::string, std::vector<std::string>>;
+
 class IntentModel {
  public:
-  // Trains on `sentences` over `classes` classes.
-  static IntentModel train(const std::vector<LabelledSentence>& sentences, int classes);
+  // Trains on `sentences` over `classes` classes. With `wordnet`, content words (and
+  // WordNet collocations) also give their concepts as features (wordnet.h), so a word the
+  // sentences never used counts through a synonym or hypernym that they did; the model keeps
+  // the pointer, which must outlive it (WordNet::installed() does).
+  static IntentModel train(const std::vector<LabelledSentence>& sentences, int classes,
+                           const WordNet* wordnet = nullptr);
 
   // Probability of each class (sums to 1). An empty model gives a uniform answer.
   std::vector<float> probabilities(const std::vector<std::string>& words) const;
@@ -39,12 +53,14 @@ class IntentModel {
   std::size_t memory_bytes() const;
 
  private:
-  std::vector<int> active(const std::vector<std::string>& words, bool add);
+  std::vector<std::pair<int, float>> active(const std::vector<std::string>& words, bool add,
+                                            ConceptCache* cache);
 
   std::unordered_map<std::string, int> feature_ids_;
   std::vector<float> weights_;  // feature-major: weights_[feature * classes_ + class]
   std::vector<float> bias_;
   int classes_ = 0;
+  const WordNet* wordnet_ = nullptr;
 };
 
 // The words the model sees for one normalised word: its stem, numbers as "#num".

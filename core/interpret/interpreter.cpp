@@ -313,10 +313,16 @@ constexpr std::size_t kTolerantCandidates = 3;
 constexpr float kAcceptProbability = 0.4F;
 constexpr float kNoneRatio = 2.0F;  // the top intent must be twice as likely as out of scope
 constexpr float kAcceptWithTemplate = 0.15F;  // when a template parses at a low cost
-constexpr float kNoneRatioWithTemplate = 0.3F;
+constexpr float kNoneRatioWithTemplate = 1.0F;
 constexpr float kLowTemplateCost = 1.5F;
 constexpr float kAskEach = 0.2F;
 constexpr float kAskTogether = 0.5F;
+// An accepted intent whose runner-up is this close is asked about instead.
+constexpr float kCloseCall = 0.8F;
+// A skill whose intents together are this likely (and kNoneRatio x out of scope) is meant
+// even when the model splits its belief among them ("secure the doors": on, off or query).
+constexpr float kSkillProbability = 0.35F;
+constexpr float kSkillShare = 0.05F;
 constexpr float kModelOverridesExact = 0.3F;
 
 // Words people use for the words templates are written with; any skill benefits.
@@ -525,7 +531,8 @@ std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
     }
   }
   state->model = IntentModel::train(
-      sentences, state->none_class + 1 + static_cast<int>(ModelState::kDialogue.size()));
+      sentences, state->none_class + 1 + static_cast<int>(ModelState::kDialogue.size()),
+      WordNet::installed());
   model = std::move(state);
   return model;
 }
@@ -707,8 +714,10 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   // word plus a free-text slot ("is {device} on" for "is flu contagious") fits almost anything.
   const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost &&
                         (parses[0]->cost == 0 || parses[0]->literal_words >= 2);
-  if ((p1 > p_none * kNoneRatio && p1 >= kAcceptProbability) ||
-      (low_cost && p1 >= kAcceptWithTemplate && p1 >= p_none * kNoneRatioWithTemplate)) {
+  const bool close_call = p2 >= kAskEach && p2 >= kCloseCall * p1 && !low_cost;
+  if (!close_call &&
+      ((p1 > p_none * kNoneRatio && p1 >= kAcceptProbability) ||
+       (low_cost && p1 >= kAcceptWithTemplate && p1 >= p_none * kNoneRatioWithTemplate))) {
     u.match = reading(0);
     u.outcome = Understanding::Outcome::kMatch;
     u.reason = p1 >= kAcceptProbability ? "the model is sure" : "close template and model agree";
@@ -717,7 +726,33 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   if (p2 >= kAskEach && p1 + p2 >= kAskTogether && p1 + p2 > p_none * kNoneRatio) {
     u.choices = {reading(0), reading(1)};
     u.outcome = Understanding::Outcome::kAsk;
-    u.reason = "two intents are close";
+    u.reason = close_call ? "the two likeliest intents are too close to choose"
+                          : "two intents are close";
+    return u;
+  }
+  // The top intent's skill as a whole: its intents' belief added up.
+  float p_skill = 0;
+  std::size_t second_of_skill = 0;  // rank of the skill's next intent (0 = none)
+  for (std::size_t r = 0; r < order.size(); ++r) {
+    // Only intents the model gives real weight: a skill with many intents would otherwise
+    // add up to a lot of small doubts.
+    if (impl.intents[order[r]].spec.skill_id != impl.intents[order[0]].spec.skill_id ||
+        p[order[r]] < kSkillShare) {
+      continue;
+    }
+    p_skill += p[order[r]];
+    if (r > 0 && second_of_skill == 0) second_of_skill = r;
+  }
+  if (p_skill >= kSkillProbability && p_skill > p_none * kNoneRatio) {
+    if (second_of_skill == 1 && p2 >= kCloseCall * p1 * 0.5F) {
+      u.choices = {reading(0), reading(1)};
+      u.outcome = Understanding::Outcome::kAsk;
+      u.reason = "the skill is clear, not which of its intents";
+      return u;
+    }
+    u.match = reading(0);
+    u.outcome = Understanding::Outcome::kMatch;
+    u.reason = "the skill is clear and this is its likeliest intent";
     return u;
   }
   u.reason = p_none >= p1 ? "out of scope is likeliest" : "not sure enough";
