@@ -217,6 +217,11 @@ Builtin Interpreter::builtin(std::string_view utterance) const {
   const bool has_yes = std::find(request.begin(), request.end(), "yes") != request.end();
   const bool has_no = std::find(request.begin(), request.end(), "no") != request.end();
   if (has_yes && has_no) return Builtin::kNone;
+  // A question ("is it true that ...", "do you agree") asks; it does not answer yes or no.
+  const bool question =
+      !request.empty() && (request[0] == "is" || request[0] == "are" || request[0] == "was" ||
+                           request[0] == "were" || request[0] == "do" || request[0] == "does" ||
+                           request[0] == "did" || request[0] == "am");
   std::shared_ptr<const ModelState> state = impl_->ensure_model();
   std::vector<float> p = state->model.probabilities(request);
   const auto top = static_cast<std::size_t>(std::max_element(p.begin(), p.end()) - p.begin());
@@ -227,7 +232,9 @@ Builtin Interpreter::builtin(std::string_view utterance) const {
   }
   if (top >= first && top < first + ModelState::kDialogue.size() &&
       p[top] >= kDialogueProbability && p[top] >= 2 * runner_up) {
-    return ModelState::kDialogue[top - first];
+    const Builtin answer = ModelState::kDialogue[top - first];
+    if (question && answer != Builtin::kRepeat) return Builtin::kNone;
+    return answer;
   }
   return Builtin::kNone;
 }
@@ -312,8 +319,8 @@ constexpr std::size_t kTolerantCandidates = 3;
 // Decision thresholds, measured on requests written by other people (core/interpret/README.md).
 constexpr float kAcceptProbability = 0.4F;
 constexpr float kNoneRatio = 2.0F;  // the top intent must be twice as likely as out of scope
-constexpr float kAcceptWithTemplate = 0.15F;  // when a template parses at a low cost
-constexpr float kNoneRatioWithTemplate = 1.0F;
+constexpr float kAcceptWithTemplate = 0.12F;  // when a template parses at a low cost
+constexpr float kNoneRatioWithTemplate = 0.25F;
 constexpr float kLowTemplateCost = 1.5F;
 constexpr float kAskEach = 0.2F;
 constexpr float kAskTogether = 0.5F;

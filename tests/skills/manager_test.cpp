@@ -408,8 +408,9 @@ TEST_CASE("unsure between two skills: ask; 'no' goes back to listening, a choice
   Dialogue d;
   d.registry.add_native(manifest(kLampA), marvin::skill_descriptor<Glower>("lamp-a"));
   d.registry.add_native(manifest(kLampB), marvin::skill_descriptor<Glower>("lamp-b"));
-  // The likelier reading is named first; the two are nearly equal here.
-  const std::string question = "Did you want the ceiling light or the desk lamp?";
+  // The likelier reading is named first; the two are nearly equal here (which one leads
+  // depends on the last digits of the model's weights, the same on every run).
+  const std::string question = "Did you want the desk lamp or the ceiling light?";
   CHECK(d.turn("the room is too dim", {"no"}) == Lines{question, "OK."});
   Lines stopped = d.turn("the room is too dim", {"stop"});
   REQUIRE_FALSE(stopped.empty());
@@ -417,7 +418,8 @@ TEST_CASE("unsure between two skills: ask; 'no' goes back to listening, a choice
   CHECK(stopped.size() == 2);  // the question, then "OK." from stop
   CHECK(d.turn("the room is too dim", {"the desk lamp please"}) ==
         Lines{question, "Glowing: glow"});
-  CHECK(d.turn("the room is too dim", {"the first one"}) == Lines{question, "Glowing: shine"});
+  CHECK(d.turn("the room is too dim", {"the first one"}) == Lines{question, "Glowing: glow"});
+  CHECK(d.turn("the room is too dim", {"the second one"}) == Lines{question, "Glowing: shine"});
   CHECK(d.turn("the room is too dim", {"banana"}) ==
         Lines{question, "Sorry, I didn't get that. Please ask me again."});
 }
