@@ -70,6 +70,8 @@ constexpr std::array kPhrases{
     Phrase{"uh huh", Builtin::kYes},            Phrase{"i do", Builtin::kYes},
     Phrase{"yes i do", Builtin::kYes},          Phrase{"that is it", Builtin::kYes},
     Phrase{"that is what i meant", Builtin::kYes}, Phrase{"that is what i said", Builtin::kYes},
+    Phrase{"what", Builtin::kRepeat},           Phrase{"huh", Builtin::kRepeat},
+    Phrase{"silence", Builtin::kStop},          Phrase{"hush", Builtin::kStop},
     Phrase{"not at all", Builtin::kNo},         Phrase{"no way", Builtin::kNo},
     Phrase{"not quite", Builtin::kNo},          Phrase{"i do not", Builtin::kNo},
     Phrase{"that is not it", Builtin::kNo},     Phrase{"that is not what i meant", Builtin::kNo},
@@ -103,6 +105,15 @@ Builtin by_head_word(std::vector<std::string> w) {
     return true;
   };
   const std::string& head = w[0];
+  // "do not talk any more", "do not say anything else", "stop talking": be quiet.
+  if (w.size() >= 3 && head == "do" && w[1] == "not" &&
+      in(w[2], {"talk", "speak", "say", "continue", "go"}) &&
+      std::all_of(w.begin() + 3, w.end(), [](const std::string& x) {
+        return in(x, {"any", "more", "anymore", "further", "now", "please", "to", "me",
+                      "anything", "else", "on", "with", "it", "that", "again"});
+      })) {
+    return Builtin::kStop;
+  }
   if (in(head, {"stop", "cancel", "abort", "halt", "quit", "terminate", "end", "scrap",
                 "nevermind", "forget", "disregard", "ignore", "drop"}) &&
       rest_in({"it", "that", "this", "now", "everything", "all", "talking", "right", "away",
@@ -188,11 +199,12 @@ bool one_edit_apart(std::string_view a, std::string_view b) {
 // +1 for a word that affirms, -1 for one that denies, 0 for neither. Long words also count
 // with one typo.
 int polarity_of(std::string_view word) {
-  static constexpr std::array<std::string_view, 14> kPositive{
+  static constexpr auto kPositive = std::to_array<std::string_view>({
       "yes",       "true",     "right",    "correct",  "accurate", "valid",     "affirmative",
-      "agree",     "agreed",   "accepted", "accept",   "confirmed", "good",     "sense"};
-  static constexpr std::array<std::string_view, 9> kNegative{
-      "no", "false", "wrong", "incorrect", "inaccurate", "invalid", "untrue", "disagree", "nope"};
+      "agree",     "agreed",   "accepted", "accept",   "confirmed", "good",     "sense"});
+  static constexpr auto kNegative = std::to_array<std::string_view>({
+      "no", "false", "wrong", "incorrect", "inaccurate", "invalid", "untrue", "disagree", "nope",
+      "negative"});
   for (std::string_view w : kPositive) {
     if (word == w || (w.size() >= 7 && one_edit_apart(word, w))) return 1;
   }
@@ -212,12 +224,12 @@ Builtin by_polarity(const std::vector<std::string>& w) {
   if (w.empty() || w.size() > 9) return Builtin::kNone;
   // A question ("is that true", "are you good") asks, it does not answer.
   if (in(w[0], {"is", "are", "am", "was", "were", "do", "does", "did"})) return Builtin::kNone;
-  static constexpr std::array<std::string_view, 44> kHarmless{
+  static constexpr auto kHarmless = std::to_array<std::string_view>({
       "i", "you", "it", "this", "that", "is", "are", "was", "am", "be", "a", "the", "statement",
       "answer", "know", "think", "telling", "tell", "want", "to", "about", "as", "well", "quite",
       "totally", "completely", "so", "very", "said", "meant", "makes", "make", "would", "rather",
       "prefer", "guess", "sounds", "seems", "indeed", "really", "one", "100", "percent",
-      "perfectly"};
+      "perfectly", "saying", "say"});
   auto harmless = [&](const std::string& word) {
     return std::find(kHarmless.begin(), kHarmless.end(), word) != kHarmless.end();
   };

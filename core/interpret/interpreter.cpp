@@ -15,6 +15,7 @@
 #include "interpret/normalizer.h"
 #include "interpret/slot_parsers.h"
 #include "interpret/template.h"
+#include "interpret/wordnet.h"
 
 namespace marvin::interpret {
 namespace {
@@ -205,6 +206,29 @@ std::vector<std::string> Interpreter::conflicts() const {
   return find_conflicts(impl_->intents, impl_->vocabulary);
 }
 
+namespace {
+
+// True when one of the first two verb senses of `word`, or what they are a kind of, is a
+// sense of "stop" or "cancel" in WordNet. Only verbs: "stop" the noun is a bus stop.
+bool means_stop(const std::string& word) {
+  const WordNet* wordnet = WordNet::installed();
+  if (wordnet == nullptr || word.size() < 3) return false;
+  static const std::vector<std::string> kStopSenses = [wordnet] {
+    std::vector<std::string> senses;
+    for (const char* w : {"stop", "cancel", "halt", "abort"}) {
+      for (std::string& c : wordnet->verb_concepts(w, 3, 0)) senses.push_back(std::move(c));
+    }
+    std::sort(senses.begin(), senses.end());
+    return senses;
+  }();
+  for (const std::string& c : wordnet->verb_concepts(word, 2, 2)) {
+    if (std::binary_search(kStopSenses.begin(), kStopSenses.end(), c)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 Builtin Interpreter::builtin(std::string_view utterance) const {
   Builtin fixed = classify_builtin(utterance);
   if (fixed != Builtin::kNone) return fixed;
@@ -213,6 +237,9 @@ Builtin Interpreter::builtin(std::string_view utterance) const {
   std::vector<std::string> words = normalize(utterance);
   if (words.empty() || words.size() > kMaxDialogueWords) return Builtin::kNone;
   std::vector<std::string> request = strip_politeness(words);
+  // One word that WordNet files under stopping or cancelling ("cease", "terminate",
+  // "rescind"): a fixed lexicon, not a guess.
+  if (request.size() == 1 && means_stop(request[0])) return Builtin::kStop;
   // "yes no" is neither: an answer holding both is never guessed.
   const bool has_yes = std::find(request.begin(), request.end(), "yes") != request.end();
   const bool has_no = std::find(request.begin(), request.end(), "no") != request.end();

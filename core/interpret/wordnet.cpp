@@ -158,6 +158,8 @@ struct WordNet::Impl {
   // The index line of `lemma` (underscores for spaces) in part `p`, after base-form rules.
   std::optional<std::string_view> lookup(std::size_t p, const std::string& lemma) const {
     if (auto line = index[p].find(lemma)) return line;
+    // Collocations are looked up as said: most word pairs are none, and this is the hot path.
+    if (lemma.find('_') != std::string::npos) return std::nullopt;
     if (auto exc = exceptions[p].find(lemma)) {
       std::vector<std::string_view> f = fields(*exc);
       for (std::size_t i = 1; i < f.size(); ++i) {
@@ -243,11 +245,22 @@ bool WordNet::knows(std::string_view phrase) const {
 
 std::vector<std::string> WordNet::concepts(std::string_view word, int senses,
                                            int hypernym_senses) const {
+  return concepts_in(word, senses, hypernym_senses, 0, kParts.size());
+}
+
+std::vector<std::string> WordNet::verb_concepts(std::string_view word, int senses,
+                                                int hypernym_senses) const {
+  return concepts_in(word, senses, hypernym_senses, 1, 2);
+}
+
+std::vector<std::string> WordNet::concepts_in(std::string_view word, int senses,
+                                              int hypernym_senses, std::size_t first_part,
+                                              std::size_t end_part) const {
   std::vector<std::string> out;
   if (word.empty()) return out;
   std::string lemma(word);
   for (char& c : lemma) c = c == ' ' ? '_' : c;
-  for (std::size_t p = 0; p < kParts.size(); ++p) {
+  for (std::size_t p = first_part; p < end_part; ++p) {
     auto line = impl_->lookup(p, lemma);
     if (!line) continue;
     // lemma pos synset_cnt p_cnt [ptr_symbol]... sense_cnt tagsense_cnt [synset_offset]...

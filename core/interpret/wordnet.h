@@ -45,11 +45,17 @@ class WordNet {
   std::vector<std::string> concepts(std::string_view word, int senses = 2,
                                     int hypernym_senses = 1) const;
 
+  // concepts() of the verb only ("v..." ids), with the same rules.
+  std::vector<std::string> verb_concepts(std::string_view word, int senses,
+                                         int hypernym_senses) const;
+
   // True when `phrase` (words separated by spaces) is a lemma of some part of speech.
   bool knows(std::string_view phrase) const;
 
  private:
   struct Impl;
+  std::vector<std::string> concepts_in(std::string_view word, int senses, int hypernym_senses,
+                                       std::size_t first_part, std::size_t end_part) const;
   explicit WordNet(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

@@ -112,6 +112,11 @@ TEST_CASE("dialogue answers in the person's own words: polarity, negation, typos
       {"hey robot cancel that", Builtin::kStop},
       {"computer stop", Builtin::kStop},
       {"please repeat the question", Builtin::kRepeat},
+      {"what?", Builtin::kRepeat},
+      {"do not say anything else", Builtin::kStop},
+      {"don't speak any more please", Builtin::kStop},
+      {"do not forget the milk", Builtin::kNone},
+      {"that is a negative", Builtin::kNo},
       // Questions and requests are never answers.
       {"is that true", Builtin::kNone},
       {"are you good", Builtin::kNone},
@@ -124,6 +129,21 @@ TEST_CASE("dialogue answers in the person's own words: polarity, negation, typos
   for (const Case& c : cases) {
     CAPTURE(c.text);
     CHECK(mi::classify_builtin(c.text) == c.expected);
+  }
+}
+
+TEST_CASE("one word WordNet files under stop or cancel stops; other verbs do not") {
+  wordnet();
+  mi::Interpreter in;
+  mi::IntentSpec time{"clock", "time", {"what time is it"}, {}};
+  in.add(time);
+  for (const char* text : {"cease", "terminate", "rescind", "Discontinue!"}) {
+    CAPTURE(text);
+    CHECK(in.builtin(text) == Builtin::kStop);
+  }
+  for (const char* text : {"pause", "remove", "close", "play", "wait", "book", "rescind my order"}) {
+    CAPTURE(text);
+    CHECK(in.builtin(text) != Builtin::kStop);
   }
 }
 
