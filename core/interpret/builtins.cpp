@@ -149,11 +149,12 @@ Builtin by_head_word(std::vector<std::string> w) {
   for (std::size_t i = 0; i < w.size(); ++i) {
     // "repeat that", "can you repeat the question", but not "repeat my shopping list".
     if ((w[i] == "repeat" || w[i] == "repeated") &&
-        std::all_of(w.begin() + static_cast<std::ptrdiff_t>(i) + 1, w.end(), [](const std::string& x) {
-          return in(x, {"that", "it", "this", "please", "again", "yourself", "what", "you", "said",
-                        "say", "just", "the", "last", "thing", "question", "answer", "sentence",
-                        "1", "more", "time", "once", "me", "one", "for", "now", "slowly",
-                        "louder"});
+        std::all_of(w.begin() + static_cast<std::ptrdiff_t>(i) + 1, w.end(),
+                    [](const std::string& x) {
+                      return in(x, {"that", "it", "this", "please", "again", "yourself", "what",
+                                    "you", "said", "say", "just", "the", "last", "thing",
+                                    "question", "answer", "sentence", "1", "more", "time",
+                                    "once", "me", "one", "for", "now", "slowly", "louder"});
         })) {
       repeat = true;
     }

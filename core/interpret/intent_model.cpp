@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <array>
-#include <string_view>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <string_view>
 
 #include "interpret/phrasing.h"
 
@@ -28,11 +28,12 @@ bool is_number_token(const std::string& word) {
 // their concepts would only add noise.
 bool is_function_word(const std::string& w) {
   static const std::array<std::string_view, 62> kWords{
-      "a", "about", "all", "am", "an", "and", "any", "are", "as", "at", "be", "been", "but",
-      "by", "can", "could", "did", "do", "does", "for", "from", "had", "has", "have", "he",
-      "her", "him", "his", "how", "i", "if", "in", "is", "it", "its", "me", "my", "no", "not",
-      "of", "on", "or", "our", "she", "so", "that", "the", "their", "them", "then", "there",
-      "these", "they", "this", "to", "up", "was", "we", "what", "will", "with", "you"};
+      "a",    "about", "all", "am",    "an",    "and",  "any",   "are",   "as",   "at",   "be",
+      "been", "but",   "by",  "can",   "could", "did",  "do",    "does",  "for",  "from", "had",
+      "has",  "have",  "he",  "her",   "him",   "his",  "how",   "i",     "if",   "in",   "is",
+      "it",   "its",   "me",  "my",    "no",    "not",  "of",    "on",    "or",   "our",  "she",
+      "so",   "that",  "the", "their", "them",  "then", "there", "these", "they", "this", "to",
+      "up",   "was",   "we",  "what",  "will",  "with", "you"};
   return w.size() < 3 || std::find(kWords.begin(), kWords.end(), w) != kWords.end();
 }
 
@@ -69,7 +70,8 @@ std::vector<Feature> feature_list(const std::vector<std::string>& words, const W
     auto concepts_of = [&](const std::string& phrase) -> std::vector<std::string> {
       if (cache == nullptr) return wordnet->concepts(phrase, kSenses, kHypernymSenses);
       auto it = cache->find(phrase);
-      if (it == cache->end()) it = cache->emplace(phrase, wordnet->concepts(phrase, kSenses, kHypernymSenses)).first;
+      if (it == cache->end())
+        it = cache->emplace(phrase, wordnet->concepts(phrase, kSenses, kHypernymSenses)).first;
       return it->second;
     };
     for (std::size_t i = 0; i < words.size(); ++i) {

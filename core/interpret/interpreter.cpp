@@ -9,12 +9,12 @@
 #include "interpret/builtins.h"
 #include "interpret/intent_model.h"
 #include "interpret/intent_table.h"
-#include "interpret/phrasing.h"
-#include "interpret/tolerant_matcher.h"
 #include "interpret/matcher.h"
 #include "interpret/normalizer.h"
+#include "interpret/phrasing.h"
 #include "interpret/slot_parsers.h"
 #include "interpret/template.h"
+#include "interpret/tolerant_matcher.h"
 #include "interpret/wordnet.h"
 
 namespace marvin::interpret {
@@ -246,9 +246,9 @@ Builtin Interpreter::builtin(std::string_view utterance) const {
   if (has_yes && has_no) return Builtin::kNone;
   // A question ("is it true that ...", "do you agree") asks; it does not answer yes or no.
   const bool question =
-      !request.empty() && (request[0] == "is" || request[0] == "are" || request[0] == "was" ||
-                           request[0] == "were" || request[0] == "do" || request[0] == "does" ||
-                           request[0] == "did" || request[0] == "am");
+      !request.empty() &&
+      (request[0] == "is" || request[0] == "are" || request[0] == "was" || request[0] == "were" ||
+       request[0] == "do" || request[0] == "does" || request[0] == "did" || request[0] == "am");
   std::shared_ptr<const ModelState> state = impl_->ensure_model();
   std::vector<float> p = state->model.probabilities(request);
   const auto top = static_cast<std::size_t>(std::max_element(p.begin(), p.end()) - p.begin());
@@ -760,8 +760,8 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   if (p2 >= kAskEach && p1 + p2 >= kAskTogether && p1 + p2 > p_none * kNoneRatio) {
     u.choices = {reading(0), reading(1)};
     u.outcome = Understanding::Outcome::kAsk;
-    u.reason = close_call ? "the two likeliest intents are too close to choose"
-                          : "two intents are close";
+    u.reason =
+        close_call ? "the two likeliest intents are too close to choose" : "two intents are close";
     return u;
   }
   // The top intent's skill as a whole: its intents' belief added up.

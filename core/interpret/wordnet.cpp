@@ -54,7 +54,8 @@ class MappedFile {
     return true;
   }
   std::string_view view() const {
-    return data_ == nullptr ? std::string_view() : std::string_view(static_cast<const char*>(data_), size_);
+    return data_ == nullptr ? std::string_view()
+                            : std::string_view(static_cast<const char*>(data_), size_);
   }
 
  private:
@@ -141,9 +142,21 @@ constexpr std::array<Part, 3> kParts{{{"noun", 'n'}, {"verb", 'v'}, {"adj", 'a'}
 
 // WordNet's detachment rules ("morphy"): suffix -> replacement, per part of speech.
 constexpr std::array<std::array<std::pair<std::string_view, std::string_view>, 8>, 3> kRules{{
-    {{{"ses", "s"}, {"xes", "x"}, {"zes", "z"}, {"ches", "ch"}, {"shes", "sh"}, {"men", "man"},
-      {"ies", "y"}, {"s", ""}}},
-    {{{"ies", "y"}, {"es", "e"}, {"es", ""}, {"ed", "e"}, {"ed", ""}, {"ing", "e"}, {"ing", ""},
+    {{{"ses", "s"},
+      {"xes", "x"},
+      {"zes", "z"},
+      {"ches", "ch"},
+      {"shes", "sh"},
+      {"men", "man"},
+      {"ies", "y"},
+      {"s", ""}}},
+    {{{"ies", "y"},
+      {"es", "e"},
+      {"es", ""},
+      {"ed", "e"},
+      {"ed", ""},
+      {"ing", "e"},
+      {"ing", ""},
       {"s", ""}}},
     {{{"est", "e"}, {"est", ""}, {"er", "e"}, {"er", ""}, {"", ""}, {"", ""}, {"", ""}, {"", ""}}},
 }};
@@ -182,7 +195,8 @@ struct WordNet::Impl {
     std::string_view text = data[p].view();
     if (offset >= text.size()) return out;
     std::size_t end = text.find('\n', offset);
-    std::string_view line = text.substr(offset, (end == std::string_view::npos ? text.size() : end) - offset);
+    std::string_view line =
+        text.substr(offset, (end == std::string_view::npos ? text.size() : end) - offset);
     line = line.substr(0, line.find(" | "));
     std::vector<std::string_view> f = fields(line);
     // offset lex_filenum ss_type w_cnt(hex) [word lex_id]... p_cnt [symbol offset pos src/tgt]...

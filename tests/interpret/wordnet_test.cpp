@@ -1,5 +1,7 @@
 // WordNet (Debian wordnet-base, listed in deps/debian-packages.txt) read in place, its synsets
 // as features of the intent model, and the decisions that lean on a skill as a whole.
+#include "interpret/wordnet.h"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -10,7 +12,6 @@
 #include "interpret/intent_model.h"
 #include "interpret/interpreter.h"
 #include "interpret/normalizer.h"
-#include "interpret/wordnet.h"
 
 namespace mi = marvin::interpret;
 using mi::Builtin;
@@ -141,7 +142,8 @@ TEST_CASE("one word WordNet files under stop or cancel stops; other verbs do not
     CAPTURE(text);
     CHECK(in.builtin(text) == Builtin::kStop);
   }
-  for (const char* text : {"pause", "remove", "close", "play", "wait", "book", "rescind my order"}) {
+  for (const char* text :
+       {"pause", "remove", "close", "play", "wait", "book", "rescind my order"}) {
     CAPTURE(text);
     CHECK(in.builtin(text) != Builtin::kStop);
   }
@@ -149,10 +151,12 @@ TEST_CASE("one word WordNet files under stop or cancel stops; other verbs do not
 
 TEST_CASE("a skill that is clearly meant, with its intents close, is asked about") {
   mi::Interpreter in;
-  mi::IntentSpec on{"lights", "on", {"turn on [the] {device}"}, {{"device", mi::SlotType::kText, {}}}};
+  mi::IntentSpec on{
+      "lights", "on", {"turn on [the] {device}"}, {{"device", mi::SlotType::kText, {}}}};
   on.examples = {"turn on the lamp", "lamp on please", "switch the light on", "lights on",
                  "put the lamp on"};
-  mi::IntentSpec off{"lights", "off", {"turn off [the] {device}"}, {{"device", mi::SlotType::kText, {}}}};
+  mi::IntentSpec off{
+      "lights", "off", {"turn off [the] {device}"}, {{"device", mi::SlotType::kText, {}}}};
   off.examples = {"turn off the lamp", "lamp off please", "switch the light off", "lights off",
                   "put the lamp off"};
   in.add(on);
@@ -173,9 +177,9 @@ TEST_CASE("a skill that is clearly meant, with its intents close, is asked about
   REQUIRE(exact.outcome == Understanding::Outcome::kMatch);
   CHECK(exact.match->intent == "off");
   // Written for this test: questions shaped like the skills' sentences, none of them theirs.
-  for (const char* text : {"is the museum open late", "how is paper made",
-                           "are the trains running on time", "what is the amount of salt in bread",
-                           "is the lamp shop open on sundays"}) {
+  for (const char* text :
+       {"is the museum open late", "how is paper made", "are the trains running on time",
+        "what is the amount of salt in bread", "is the lamp shop open on sundays"}) {
     CAPTURE(text);
     CHECK(in.understand(text, context).outcome != Understanding::Outcome::kMatch);
   }
