@@ -266,3 +266,20 @@ TEST_CASE("run --sim: \"what do you see?\" names the bicycle in front of the rob
   CHECK(answer == "Marvin: I see a bicycle.");
   CHECK(test_support::exit_code(p.finish()) == 0);
 }
+
+TEST_CASE("marvin vision look PHOTO prints the objects with the faces") {
+  TempDir dir;
+  const std::string marvin =
+      (fs::path(std::getenv("MARVIN_BUILD_DIR")) / "core/app/marvin").string();
+  test_support::ChildProcess p({marvin, "vision", "look", darknet_photo("dog.jpg").string(),
+                                "--data-dir", (dir / "data").string()});
+  REQUIRE(test_support::exit_code(p.finish()) == 0);
+  const auto line = nlohmann::json::parse(p.output());
+  REQUIRE(line["objects"].is_array());
+  std::vector<std::string> classes;
+  for (const auto& o : line["objects"]) classes.push_back(o["class"]);
+  for (const char* want : {"bicycle", "dog", "truck"}) {
+    CHECK_MESSAGE(std::find(classes.begin(), classes.end(), want) != classes.end(), want);
+  }
+  CHECK(line["faces"].is_array());
+}
