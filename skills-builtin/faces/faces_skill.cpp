@@ -3,6 +3,9 @@
 //        -> "That's Anna." / "I see Anna and someone I don't know." / "I don't see anyone."
 //   "what do you see?" / "what's in front of you?"
 //        -> the things and the people in view: "I see a cup, two chairs and Anna."
+//   "do you see a phone?" / "is there a cup?" (the 80 COCO things by the names people use:
+//        the list slot's values are core/vision/object_names.cpp's spoken names, checked
+//        by vision_tests)  -> "Yes, I see two cups." / "No, I don't see a cup."
 //   "this is Anna" / "remember this face as Anna"
 //        -> asks "Shall I remember this face as Anna?"; only a yes enrols (from 5 frames)
 //   "forget Anna's face"     -> removes Anna and every embedding of her face
@@ -126,6 +129,7 @@ class FacesSkill : public marvin::Skill {
     try {
       if (r.intent == "who") who();
       else if (r.intent == "what_do_you_see") what_do_you_see();
+      else if (r.intent == "is_there") is_there(lower(r.slots.at("object").get<std::string>()));
       else if (r.intent == "enroll") enroll(person_name(r.slots.at("name").get<std::string>()));
       else if (r.intent == "forget") forget(person_name(r.slots.at("name").get<std::string>()));
       else if (r.intent == "teach_object") teach_object(lower(r.slots.at("thing").get<std::string>()));
@@ -158,6 +162,17 @@ class FacesSkill : public marvin::Skill {
     std::vector<std::string> things = things_in(seen);
     for (const std::string& p : people_in(seen)) things.push_back(p);
     robot().say(things.empty() ? "I don't see anything I know." : "I see " + join_and(things) + ".");
+  }
+
+  void is_there(const std::string& thing) {
+    const json seen = robot().vision_look();
+    int n = 0;
+    for (const json& o : seen.value("objects", json::array())) n += o.value("label", "") == thing;
+    if (thing == "person") n = std::max(n, static_cast<int>(seen.value("faces", json::array()).size()));
+    const bool vowel = !thing.empty() && std::string("aeiou").find(thing[0]) != std::string::npos;
+    const std::string one = (vowel ? "an " : "a ") + thing;
+    if (n == 0) robot().say("No, I don't see " + one + ".");
+    else robot().say("Yes, I see " + (n == 1 ? one : count_word(n) + " " + plural(thing)) + ".");
   }
 
   void enroll(const std::string& name) {

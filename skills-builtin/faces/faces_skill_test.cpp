@@ -97,3 +97,17 @@ TEST_CASE("what do you see: things by the names people use, counted, then the pe
   h.robot().set_camera_view(R"({"faces":[],"objects":[]})");
   CHECK(h.say("what do you see") == Lines{"I don't see anything I know."});
 }
+
+TEST_CASE("do you see a phone; is there a cup: the things by the names people use") {
+  marvin::testing::SkillHarness h(FACES_SKILL_DIR);
+  h.robot().set_camera_view(R"({"faces":[{"name":"Anna","box":[300,40,80,80]}],
+      "objects":[{"label":"phone","class":"cell phone","box":[1,2,3,4],"score":0.6},
+                 {"label":"chair","class":"chair","box":[10,200,90,120],"score":0.7},
+                 {"label":"chair","class":"chair","box":[500,200,90,120],"score":0.5}]})");
+  CHECK(h.say("do you see a phone") == Lines{"Yes, I see a phone."});
+  CHECK(h.say("is there a cup") == Lines{"No, I don't see a cup."});
+  CHECK(h.say("can you see any chair") == Lines{"Yes, I see two chairs."});
+  CHECK(h.say("is there an apple") == Lines{"No, I don't see an apple."});
+  CHECK(h.say("do you see a person") == Lines{"Yes, I see a person."});
+  CHECK(h.say("do you see a remote control") == Lines{"No, I don't see a remote control."});
+}

@@ -283,3 +283,20 @@ TEST_CASE("marvin vision look PHOTO prints the objects with the faces") {
   }
   CHECK(line["faces"].is_array());
 }
+
+TEST_CASE("the faces skill's grammar hears every COCO thing by the name Marvin says") {
+  std::ifstream in(object_source_dir() / "skills-builtin/faces/skill.json");
+  REQUIRE(in);
+  const auto manifest = nlohmann::json::parse(in);
+  std::vector<std::string> heard;
+  for (const auto& intent : manifest["intents"]) {
+    if (intent["name"] != "is_there") continue;
+    for (const auto& v : intent["slots"][0]["values"]) heard.push_back(v);
+  }
+  std::vector<std::string> said;
+  for (int i = 0; i < kCocoClasses; ++i) said.push_back(spoken_name(coco_name(i)));
+  std::sort(said.begin(), said.end());
+  said.erase(std::unique(said.begin(), said.end()), said.end());
+  std::sort(heard.begin(), heard.end());
+  CHECK(heard == said);
+}
