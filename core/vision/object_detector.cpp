@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -19,8 +18,7 @@ const std::vector<std::string> kOutputs = {"Identity",   "Identity_1", "Identity
 
 }  // namespace
 
-ObjectDetector::ObjectDetector(const std::filesystem::path& model, float min_score,
-                               float nms_iou)
+ObjectDetector::ObjectDetector(const std::filesystem::path& model, float min_score, float nms_iou)
     : path_(model.empty() ? find_model(kNanoDetModel) : model),
       min_score_(min_score),
       nms_iou_(nms_iou),

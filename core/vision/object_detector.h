@@ -10,21 +10,20 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "vision/tfjs_graph.h"
 
 namespace marvin::vision {
 
 struct DetectedObject {
-  int coco_class = 0;   // 0..79
-  std::string coco;     // COCO's name: "cell phone"
-  std::string label;    // what Marvin says: "phone" (spoken_name)
-  cv::Rect2f box;       // pixels of the image given to detect()
-  float score = 0;      // 0..1
+  int coco_class = 0;  // 0..79
+  std::string coco;    // COCO's name: "cell phone"
+  std::string label;   // what Marvin says: "phone" (spoken_name)
+  cv::Rect2f box;      // pixels of the image given to detect()
+  float score = 0;     // 0..1
 };
 
 // The objects of one frame: the graph packet of ObjectDetectorNode (vision_nodes.h). `image`

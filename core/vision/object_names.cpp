@@ -10,22 +10,33 @@ namespace {
 
 const std::array<std::string, kCocoClasses>& coco_names() {
   static const std::array<std::string, kCocoClasses> names = {
-      "person",        "bicycle",      "car",           "motorcycle",   "airplane",
-      "bus",           "train",        "truck",         "boat",         "traffic light",
-      "fire hydrant",  "stop sign",    "parking meter", "bench",        "bird",
-      "cat",           "dog",          "horse",         "sheep",        "cow",
-      "elephant",      "bear",         "zebra",         "giraffe",      "backpack",
-      "umbrella",      "handbag",      "tie",           "suitcase",     "frisbee",
-      "skis",          "snowboard",    "sports ball",   "kite",         "baseball bat",
-      "baseball glove", "skateboard",  "surfboard",     "tennis racket", "bottle",
-      "wine glass",    "cup",          "fork",          "knife",        "spoon",
-      "bowl",          "banana",       "apple",         "sandwich",     "orange",
-      "broccoli",      "carrot",       "hot dog",       "pizza",        "donut",
-      "cake",          "chair",        "couch",         "potted plant", "bed",
-      "dining table",  "toilet",       "tv",            "laptop",       "mouse",
-      "remote",        "keyboard",     "cell phone",    "microwave",    "oven",
-      "toaster",       "sink",         "refrigerator",  "book",         "clock",
-      "vase",          "scissors",     "teddy bear",    "hair drier",   "toothbrush"};
+      "person",        "bicycle",      "car",
+      "motorcycle",    "airplane",     "bus",
+      "train",         "truck",        "boat",
+      "traffic light", "fire hydrant", "stop sign",
+      "parking meter", "bench",        "bird",
+      "cat",           "dog",          "horse",
+      "sheep",         "cow",          "elephant",
+      "bear",          "zebra",        "giraffe",
+      "backpack",      "umbrella",     "handbag",
+      "tie",           "suitcase",     "frisbee",
+      "skis",          "snowboard",    "sports ball",
+      "kite",          "baseball bat", "baseball glove",
+      "skateboard",    "surfboard",    "tennis racket",
+      "bottle",        "wine glass",   "cup",
+      "fork",          "knife",        "spoon",
+      "bowl",          "banana",       "apple",
+      "sandwich",      "orange",       "broccoli",
+      "carrot",        "hot dog",      "pizza",
+      "donut",         "cake",         "chair",
+      "couch",         "potted plant", "bed",
+      "dining table",  "toilet",       "tv",
+      "laptop",        "mouse",        "remote",
+      "keyboard",      "cell phone",   "microwave",
+      "oven",          "toaster",      "sink",
+      "refrigerator",  "book",         "clock",
+      "vase",          "scissors",     "teddy bear",
+      "hair drier",    "toothbrush"};
   return names;
 }
 
@@ -100,9 +111,9 @@ std::string spoken_plural(std::string_view spoken) {
 }
 
 std::string with_article(std::string_view spoken) {
-  const bool vowel = !spoken.empty() &&
-                     std::string_view("aeiou").find(static_cast<char>(
-                         std::tolower(static_cast<unsigned char>(spoken[0])))) != std::string_view::npos;
+  const bool vowel = !spoken.empty() && std::string_view("aeiou").find(static_cast<char>(
+                                            std::tolower(static_cast<unsigned char>(spoken[0])))) !=
+                                            std::string_view::npos;
   return std::string(vowel ? "an " : "a ") + std::string(spoken);
 }
 

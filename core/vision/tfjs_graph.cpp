@@ -6,10 +6,9 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <system_error>
-
-#include <nlohmann/json.hpp>
 
 #include "vision/model_files.h"
 
@@ -181,14 +180,13 @@ class GraphBuilder {
           min = q.value("min", 0.0f);
         }
         const std::size_t width = stored == "float16" || stored == "uint16" ? 2
-                                  : stored == "uint8"                        ? 1
-                                                                             : 4;
+                                  : stored == "uint8"                       ? 1
+                                                                            : 4;
         if (offset + count * width > data.size()) {
-          throw ModelError("model weights of " + path_.string() + " are truncated: " +
-                           std::to_string(data.size()) + " bytes, weight " +
+          throw ModelError("model weights of " + path_.string() +
+                           " are truncated: " + std::to_string(data.size()) + " bytes, weight " +
                            w.value("name", "") + " needs bytes up to " +
-                           std::to_string(offset + count * width) +
-                           ": run scripts/setup again");
+                           std::to_string(offset + count * width) + ": run scripts/setup again");
         }
         c.values.resize(count);
         const char* p = data.data() + offset;
@@ -211,7 +209,8 @@ class GraphBuilder {
             std::memcpy(&c.values[i], p + 4 * i, 4);
           } else {
             throw ModelError("model " + path_.string() + ": weight " + w.value("name", "") +
-                             " has dtype " + stored + "; expected float32, float16, int32 or "
+                             " has dtype " + stored +
+                             "; expected float32, float16, int32 or "
                              "uint8/uint16 quantisation");
           }
         }
@@ -219,9 +218,9 @@ class GraphBuilder {
         weights_[w.value("name", "")] = std::move(c);
       }
       if (offset != data.size()) {
-        throw ModelError("model weights of " + path_.string() + ": " +
-                         std::to_string(data.size()) + " bytes, the manifest describes " +
-                         std::to_string(offset) + ": run scripts/setup again");
+        throw ModelError("model weights of " + path_.string() + ": " + std::to_string(data.size()) +
+                         " bytes, the manifest describes " + std::to_string(offset) +
+                         ": run scripts/setup again");
       }
     }
   }
@@ -396,7 +395,8 @@ class GraphBuilder {
       p.set("interpolation", "bilinear");
       p.set("height", static_cast<int>(size.values.at(0)));
       p.set("width", static_cast<int>(size.values.at(1)));
-      p.set("align_corners", attr.contains("align_corners") && attr["align_corners"].value("b", false));
+      p.set("align_corners",
+            attr.contains("align_corners") && attr["align_corners"].value("b", false));
       p.set("half_pixel_centers",
             attr.contains("half_pixel_centers") && attr["half_pixel_centers"].value("b", false));
       v.t.layer = add(name, "Resize", p, {v.t});
@@ -411,7 +411,8 @@ class GraphBuilder {
         if (src.constant) fail(name, "splits a constant (not supported)");
         src.t = materialize(src.t, name);
         const Constant& sizes = constant(in(1), name);
-        const int axis = nchw_axis(static_cast<int>(constant(in(2), name).values.at(0)), src.t.nhwc);
+        const int axis =
+            nchw_axis(static_cast<int>(constant(in(2), name).values.at(0)), src.t.nhwc);
         std::vector<int> points;
         int at = 0;
         for (std::size_t i = 0; i + 1 < sizes.values.size(); ++i) {
@@ -420,7 +421,8 @@ class GraphBuilder {
         }
         cv::dnn::LayerParams p;
         p.set("axis", axis);
-        p.set("slice_point", cv::dnn::DictValue::arrayInt(points.data(), static_cast<int>(points.size())));
+        p.set("slice_point",
+              cv::dnn::DictValue::arrayInt(points.data(), static_cast<int>(points.size())));
         Value slice = src;
         slice.t.layer = add(name, "Slice", p, {src.t});
         slice.c.values = sizes.values;  // split sizes, for the channel count below
@@ -446,7 +448,8 @@ class GraphBuilder {
     if (v.constant || !v.t.nhwc) fail(name, "convolves something that is not an NHWC tensor");
     const Constant& filter = constant(filter_name, name);  // HWIO
     if (filter.shape.size() != 4) fail(name, "has a filter of shape " + shape_text(filter.shape));
-    const int kh = filter.shape[0], kw = filter.shape[1], ci = filter.shape[2], co = filter.shape[3];
+    const int kh = filter.shape[0], kw = filter.shape[1], ci = filter.shape[2],
+              co = filter.shape[3];
     auto ints = [&](const char* key) {
       std::vector<int> out;
       if (attr.contains(key)) {
@@ -490,8 +493,8 @@ class GraphBuilder {
       const json& next = node_of(it->second[0]);
       const std::string op = next["op"];
       if ((op == "Add" || op == "AddV2") && next["input"].size() == 2) {
-        const std::string other = base_name(next["input"][0]) == name ? next["input"][1]
-                                                                      : next["input"][0];
+        const std::string other =
+            base_name(next["input"][0]) == name ? next["input"][1] : next["input"][0];
         if (node_of(base_name(other))["op"] == "Const") {
           const Constant& b = constant(other, name);
           if (b.values.size() == static_cast<std::size_t>(co) &&

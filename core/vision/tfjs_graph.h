@@ -14,10 +14,9 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <opencv2/dnn.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/dnn.hpp>
 
 namespace marvin::vision {
 

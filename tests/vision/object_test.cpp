@@ -9,7 +9,6 @@
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "graph/graph.h"
@@ -33,7 +32,8 @@ namespace {
 
 fs::path darknet_photo(const char* name) {
   const fs::path p = fs::path("/usr/share/darknet/data") / name;
-  REQUIRE_MESSAGE(fs::exists(p), p.string() << " is missing: install Debian's darknet (scripts/setup)");
+  REQUIRE_MESSAGE(fs::exists(p), p.string()
+                                     << " is missing: install Debian's darknet (scripts/setup)");
   return p;
 }
 
@@ -111,14 +111,16 @@ TEST_CASE("a phone in a real photo is a 'phone' (cell phone), and the people are
   const DetectedObject* phone = found_at(found, "cell phone", {180, 1300});
   REQUIRE(phone != nullptr);
   CHECK(phone->label == "phone");
-  CHECK(std::count_if(found.begin(), found.end(), [](const auto& o) { return o.coco == "person"; }) >= 2);
+  CHECK(std::count_if(found.begin(), found.end(),
+                      [](const auto& o) { return o.coco == "person"; }) >= 2);
 }
 
 TEST_CASE("our network's raw outputs on dog.jpg match the numbers tfjs computed") {
   std::ifstream in(object_source_dir() / "tests/vision/data/dog_nanodet_reference.json");
   REQUIRE(in);
   const auto reference = nlohmann::json::parse(in);
-  const auto outs = detector().forward(ObjectDetector::to_blob(read_photo(darknet_photo("dog.jpg"))));
+  const auto outs =
+      detector().forward(ObjectDetector::to_blob(read_photo(darknet_photo("dog.jpg"))));
   REQUIRE(outs.size() == 6);
   double worst = 0;
   for (std::size_t k = 0; k < 6; ++k) {
