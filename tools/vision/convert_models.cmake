@@ -10,9 +10,3 @@ endif()
 # The BlazeFace ONNX files load in OpenCV as they are.
 file(COPY_FILE ${FETCHED}/face_detection_back_256x256_barracuda.onnx ${OUT}/blazeface_back_256.onnx)
 file(COPY_FILE ${FETCHED}/face_detection_front_128x128_barracuda.onnx ${OUT}/blazeface_front_128.onnx)
-# NanoDet (COCO objects) is a TF.js graph model that core/vision/tfjs_graph.cpp loads as it is.
-# (A .cache from before it was fetched lacks it: the detector then names the missing file.)
-if(EXISTS ${FETCHED}/nanodet.json AND EXISTS ${FETCHED}/nanodet.bin)
-  file(COPY_FILE ${FETCHED}/nanodet.json ${OUT}/nanodet.json)
-  file(COPY_FILE ${FETCHED}/nanodet.bin ${OUT}/nanodet.bin)
-endif()
