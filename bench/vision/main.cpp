@@ -5,6 +5,8 @@
 //   - detection + embeddings of every face found,
 //   - the Haar cascade (the original robot's detector), timed in the same run: the ratio is
 //     the figure to quote,
+//   - COCO object detection (NanoDet 416, the goal: >= 5 frames/s) on the same frame,
+//     and the face pipeline plus object detection together (what vision_look does),
 // and the memory of the loaded models (weights held, and the process's resident memory
 // growth while loading). Never fails on time.
 #include <unistd.h>
@@ -24,6 +26,7 @@
 #include "vision/face_detector.h"
 #include "vision/face_embedder.h"
 #include "vision/model_files.h"
+#include "vision/object_detector.h"
 
 using namespace marvin::vision;
 
@@ -76,6 +79,9 @@ int main(int argc, char** argv) {
     const long after_embedder = resident_kib();
     HaarFaceDetector haar;
     const long after_haar = resident_kib();
+    ObjectDetector objects;
+    objects.detect(frame);  // allocates its buffers
+    const long after_objects = resident_kib();
 
     const auto faces = blaze.detect(frame);
     if (faces.empty()) {
@@ -95,20 +101,31 @@ int main(int argc, char** argv) {
     const cv::Mat chip = face_chip(frame, faces.front());
     const double embed_fps = fps([&] { embedder.embed_chip(chip); });
     const double haar_fps = fps([&] { haar.detect(frame); });
+    const double objects_fps = fps([&] { objects.detect(frame); });
+    const double look_fps = fps([&] {
+      for (const auto& f : blaze.detect(frame)) embedder.embed_chip(face_chip(frame, f));
+      objects.detect(frame);
+    });
+    const auto found = objects.detect(frame);
 
     std::printf("BlazeFace (back, 256) detection          %7.1f frames/s\n", detect_fps);
     std::printf("face embedding (one 150x150 chip)        %7.1f faces/s\n", embed_fps);
     std::printf("detection + embedding of one face        %7.1f frames/s  (goal >= 10)\n", one_fps);
     std::printf("detection + embedding of all %zu faces    %7.1f frames/s\n", faces.size(), all_fps);
     std::printf("Haar cascade detection (baseline)        %7.1f frames/s\n", haar_fps);
-    std::printf("BlazeFace / Haar detection speed         %7.2fx\n\n", detect_fps / haar_fps);
-    std::printf("memory: embedder weights %.1f MB; resident growth while loading: BlazeFace "
-                "%.1f MB, embedder %.1f MB, Haar %.1f MB\n",
+    std::printf("BlazeFace / Haar detection speed         %7.2fx\n", detect_fps / haar_fps);
+    std::printf("object detection (NanoDet 416, COCO)     %7.1f frames/s  (goal >= 5; %zu objects)\n",
+                objects_fps, found.size());
+    std::printf("faces (all) + objects, as vision_look    %7.1f frames/s\n\n", look_fps);
+    std::printf("memory: embedder weights %.1f MB, object detector weights %.1f MB; resident "
+                "growth while loading: BlazeFace %.1f MB, embedder %.1f MB, Haar %.1f MB, "
+                "object detector %.1f MB\n",
                 static_cast<double>(embedder.weight_bytes()) / 1e6,
+                static_cast<double>(objects.weight_bytes()) / 1e6,
                 static_cast<double>(after_detector - before) / 1024.0,
                 static_cast<double>(after_embedder - after_detector) / 1024.0,
-                static_cast<double>(after_haar - after_embedder) / 1024.0);
-    std::printf("object detection: not implemented yet (no figure)\n");
+                static_cast<double>(after_haar - after_embedder) / 1024.0,
+                static_cast<double>(after_objects - after_haar) / 1024.0);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "vision_bench: %s\n", e.what());
     return 1;

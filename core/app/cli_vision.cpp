@@ -12,6 +12,7 @@
 #include "vision/cameras.h"
 #include "vision/face_gallery.h"
 #include "vision/face_pipeline.h"
+#include "vision/object_detector.h"
 
 namespace marvin::app {
 namespace {
@@ -72,6 +73,7 @@ void forget(const VisionArgs& a) {
 
 void look(const VisionArgs& a) {
   vision::FacePipeline pipeline(a.detector);
+  vision::ObjectDetector objects;
   data::SqliteStore store = a.open();
   vision::FaceGallery gallery(store);
   auto camera = vision::open_camera(a.camera);
@@ -85,7 +87,15 @@ void look(const VisionArgs& a) {
                        {"score", f.score},
                        {"box", {f.box.x, f.box.y, f.box.width, f.box.height}}});
     }
-    write_line(nlohmann::json{{"frame", frame.index}, {"faces", faces}}.dump());
+    nlohmann::json things = nlohmann::json::array();
+    for (const auto& o : objects.detect(frame.image)) {
+      things.push_back({{"label", o.label},
+                        {"class", o.coco},
+                        {"score", o.score},
+                        {"box", {o.box.x, o.box.y, o.box.width, o.box.height}}});
+    }
+    write_line(
+        nlohmann::json{{"frame", frame.index}, {"faces", faces}, {"objects", things}}.dump());
   }
 }
 
@@ -110,7 +120,7 @@ void install_vision(CLI::App& root) {
   CLI::App& vision_cmd = command_group(root, "vision", "Cameras and what they see");
   {
     auto a = std::make_shared<VisionArgs>();
-    auto* cmd = vision_cmd.add_subcommand("look", "Faces (with names) a camera sees, as JSON lines");
+    auto* cmd = vision_cmd.add_subcommand("look", "Faces (with names) and COCO objects a camera sees, as JSON lines");
     cmd->add_option("CAMERA", a->camera, "folder:DIR, video:FILE, device:/dev/video0 or device:0")
         ->required();
     cmd->add_option("--frames", a->frames, "frames to look at (default 1)");

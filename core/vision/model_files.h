@@ -32,6 +32,8 @@ std::filesystem::path find_model(const std::string& name);
 inline constexpr const char* kFaceRecognitionModel = "face_recognition.mvt";
 inline constexpr const char* kBlazeFaceBackModel = "blazeface_back_256.onnx";
 inline constexpr const char* kBlazeFaceFrontModel = "blazeface_front_128.onnx";
+// NanoDet (COCO objects), TF.js graph model; its weights nanodet.bin lie next to it.
+inline constexpr const char* kNanoDetModel = "nanodet.json";
 // Haar cascades come from Debian's opencv-data.
 inline constexpr const char* kHaarFrontalFace =
     "/usr/share/opencv4/haarcascades/haarcascade_frontalface_default.xml";

@@ -6,6 +6,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/log.h"
 #include "vision/cameras.h"
 #include "vision/face_gallery.h"
 #include "vision/model_files.h"
@@ -63,6 +64,18 @@ FacePipeline& VisionEyes::pipeline() {
   return *pipeline_;
 }
 
+ObjectDetector* VisionEyes::objects() {
+  if (!objects_tried_) {
+    objects_tried_ = true;
+    try {
+      objects_ = std::make_unique<ObjectDetector>();
+    } catch (const ModelError& e) {
+      marvin::log(LogLevel::kWarning, "vision", std::string("no object detection: ") + e.what());
+    }
+  }
+  return objects_.get();
+}
+
 std::string VisionEyes::look_json() {
   std::lock_guard lock(mutex_);
   const Frame frame = grab();
@@ -77,6 +90,14 @@ std::string VisionEyes::look_json() {
                      {"distance", m.distance}});
   }
   nlohmann::json objects = nlohmann::json::array();
+  if (ObjectDetector* detector = this->objects()) {
+    for (const DetectedObject& o : detector->detect(frame.image)) {
+      objects.push_back({{"label", o.label},
+                         {"class", o.coco},
+                         {"box", {o.box.x, o.box.y, o.box.width, o.box.height}},
+                         {"score", o.score}});
+    }
+  }
   if (store_) {
     for (const auto& o : ObjectMemory(*store_).find_all(frame.image)) {
       objects.push_back({{"label", o.name},

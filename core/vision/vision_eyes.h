@@ -1,5 +1,6 @@
 // VisionEyes: the host's camera for the Robot API (skills::Eyes, API 1.2): a Camera, the
-// face pipeline and the people gallery in the owner's SQLite store. The camera and the
+// face pipeline, the COCO object detector and the people gallery in the owner's SQLite
+// store. The camera and the
 // models are opened at the first call, and the camera again after it failed, so a robot
 // whose camera is unplugged keeps running and answers MARVIN_ERR_UNAVAILABLE with the
 // camera's own message until it is back. Thread-safe (one call at a time).
@@ -16,6 +17,7 @@
 #include "skills/eyes.h"
 #include "vision/camera.h"
 #include "vision/face_pipeline.h"
+#include "vision/object_detector.h"
 
 namespace marvin::vision {
 
@@ -42,6 +44,9 @@ class VisionEyes final : public skills::Eyes {
  private:
   Frame grab();  // throws EyesUnavailable
   FacePipeline& pipeline();
+  // The COCO detector, loaded at the first look; null (and logged once) when its model is
+  // missing: then looks report faces and taught objects only.
+  ObjectDetector* objects();
 
   std::mutex mutex_;
   std::string spec_;
@@ -51,6 +56,8 @@ class VisionEyes final : public skills::Eyes {
   std::string detector_;
   std::unique_ptr<Camera> camera_;
   std::unique_ptr<FacePipeline> pipeline_;
+  std::unique_ptr<ObjectDetector> objects_;
+  bool objects_tried_ = false;
 };
 
 }  // namespace marvin::vision

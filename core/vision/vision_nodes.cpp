@@ -216,6 +216,50 @@ class FaceLogger : public Node {
   }
 };
 
+class ObjectDetectorNode : public Node {
+ public:
+  static void declare(Contract& c) {
+    c.add_input<Frame>("in");
+    c.add_output<ObjectList>("out");
+    c.option_double("min_score", 0.35, 0.0, 1.0);
+    c.option_double("nms_iou", 0.5, 0.0, 1.0);
+    c.option_string("model", "");
+  }
+  void open(Context& ctx) override {
+    detector_ = std::make_unique<ObjectDetector>(
+        ctx.options().get_string("model"), static_cast<float>(ctx.options().get_double("min_score")),
+        static_cast<float>(ctx.options().get_double("nms_iou")));
+  }
+  void process(Context& ctx) override {
+    const Frame& frame = ctx.input(0).get<Frame>();
+    ObjectList list;
+    list.image = frame.image;
+    list.frame_index = frame.index;
+    list.objects = detector_->detect(frame.image);
+    ctx.emit(0, std::move(list));
+  }
+
+ private:
+  std::unique_ptr<ObjectDetector> detector_;
+};
+
+class ObjectLogger : public Node {
+ public:
+  static void declare(Contract& c) { c.add_input<ObjectList>("in"); }
+  void process(Context& ctx) override {
+    const ObjectList& list = ctx.input(0).get<ObjectList>();
+    std::string line = "frame " + std::to_string(list.frame_index) + ": " +
+                       std::to_string(list.objects.size()) + " object(s)";
+    for (const DetectedObject& o : list.objects) {
+      char box[160];
+      std::snprintf(box, sizeof box, " [%s %.2f at %.0f,%.0f %.0fx%.0f]", o.label.c_str(),
+                    static_cast<double>(o.score), o.box.x, o.box.y, o.box.width, o.box.height);
+      line += box;
+    }
+    log(LogLevel::kInfo, "vision", line);
+  }
+};
+
 template <typename N>
 void add_node(graph::NodeRegistry& registry, const char* name) {
   if (registry.find(name) != nullptr) return;
@@ -230,6 +274,8 @@ void register_vision_nodes(graph::NodeRegistry& registry) {
   add_node<FaceEmbedderNode>(registry, "FaceEmbedderNode");
   add_node<FaceIdentifierNode>(registry, "FaceIdentifierNode");
   add_node<FaceLogger>(registry, "FaceLogger");
+  add_node<ObjectDetectorNode>(registry, "ObjectDetectorNode");
+  add_node<ObjectLogger>(registry, "ObjectLogger");
 }
 
 }  // namespace marvin::vision

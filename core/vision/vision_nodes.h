@@ -17,6 +17,9 @@
 //   FaceIdentifierNode  in (FaceList) -> out (FaceList): names from the people gallery
 //       database ("": the user's data dir, core/data's default), threshold (0.22)
 //   FaceLogger          in (FaceList): one log line per frame with faces (names, boxes)
+//   ObjectDetectorNode  in (VideoFrame) -> out (ObjectList): COCO objects (NanoDet, see
+//       object_detector.h); min_score (0.35), nms_iou (0.5); model ("": find_model)
+//   ObjectLogger        in (ObjectList): one log line per frame with objects (labels, boxes)
 //
 // The nodes live in the static library marvin_vision: call register_vision_nodes() once
 // before building a graph that uses them.
@@ -27,9 +30,11 @@
 #include "graph/packet.h"
 #include "vision/camera.h"
 #include "vision/face.h"
+#include "vision/object_detector.h"
 
 MARVIN_PACKET_TYPE(marvin::vision::Frame, "VideoFrame");
 MARVIN_PACKET_TYPE(marvin::vision::FaceList, "FaceList");
+MARVIN_PACKET_TYPE(marvin::vision::ObjectList, "ObjectList");
 
 namespace marvin::vision {
 

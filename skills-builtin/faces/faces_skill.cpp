@@ -1,7 +1,11 @@
 // Built-in skill "faces": who is in front of the robot, and learning or forgetting faces.
 //   "who is this?" / "who is in front of you?" / "who is at the door?"
 //        -> "That's Anna." / "I see Anna and someone I don't know." / "I don't see anyone."
-//   "what do you see?"       -> the people (and, once objects land, the things) in view
+//   "what do you see?" / "what's in front of you?"
+//        -> the things and the people in view: "I see a cup, two chairs and Anna."
+//   "do you see a phone?" / "is there a cup?" (the 80 COCO things by the names people use:
+//        the list slot's values are core/vision/object_names.cpp's spoken names, checked
+//        by vision_tests)  -> "Yes, I see two cups." / "No, I don't see a cup."
 //   "this is Anna" / "remember this face as Anna"
 //        -> asks "Shall I remember this face as Anna?"; only a yes enrols (from 5 frames)
 //   "forget Anna's face"     -> removes Anna and every embedding of her face
@@ -9,6 +13,7 @@
 //   "do you see my keys?"    -> "Yes, I see your keys." / "No, I don't see your keys."
 // Consent: enrolment happens only after the spoken yes (the owner's: Marvin cannot yet tell
 // voices apart) or through `marvin people enroll`; no photo is stored, only the numbers.
+#include <algorithm>
 #include <cctype>
 #include <string>
 #include <vector>
@@ -64,6 +69,58 @@ std::vector<std::string> people_in(const json& seen) {
   return known;
 }
 
+std::string count_word(int n) {
+  static const char* kCounts[] = {"", "a", "two", "three", "four", "five", "six", "seven",
+                                  "eight", "nine", "ten"};
+  return n <= 10 ? kCounts[n] : std::to_string(n);
+}
+
+// The plural of a label vision_look gives (the names people use: "phone", "knife", "glass").
+std::string plural(const std::string& s) {
+  auto ends = [&](const char* e) {
+    const std::string t(e);
+    return s.size() >= t.size() && s.compare(s.size() - t.size(), t.size(), t) == 0;
+  };
+  if (s == "person") return "people";
+  if (s == "sheep" || s == "skis" || s == "scissors" || s == "broccoli") return s;
+  if (ends("knife")) return s.substr(0, s.size() - 2) + "ves";
+  if (ends("s") || ends("x") || ends("ch") || ends("sh")) return s + "es";
+  return s + "s";
+}
+
+// "a cup", "an apple", "two chairs", in the order first seen (the detector's: most
+// confident first). People are counted apart: a "person" the camera sees is only said when
+// there are more of them than faces (someone seen from behind); faces say who.
+std::vector<std::string> things_in(const json& seen) {
+  std::vector<std::pair<std::string, int>> counts;
+  int persons = 0;
+  for (const json& o : seen.value("objects", json::array())) {
+    const std::string label = o.value("label", "thing");
+    if (label == "person") {
+      ++persons;
+      continue;
+    }
+    auto it = std::find_if(counts.begin(), counts.end(),
+                           [&](const auto& c) { return c.first == label; });
+    if (it == counts.end()) counts.emplace_back(label, 1);
+    else ++it->second;
+  }
+  const int faces = static_cast<int>(seen.value("faces", json::array()).size());
+  if (persons > faces) counts.emplace_back(faces == 0 ? "person" : "other person", persons - faces);
+  std::vector<std::string> out;
+  for (const auto& [label, n] : counts) {
+    if (label == "other person") {
+      out.push_back(n == 1 ? "someone else" : count_word(n) + " other people");
+    } else if (n == 1) {
+      const bool vowel = std::string("aeiou").find(label[0]) != std::string::npos;
+      out.push_back((vowel ? "an " : "a ") + label);
+    } else {
+      out.push_back(count_word(n) + " " + plural(label));
+    }
+  }
+  return out;
+}
+
 class FacesSkill : public marvin::Skill {
  public:
   using Skill::Skill;
@@ -72,6 +129,7 @@ class FacesSkill : public marvin::Skill {
     try {
       if (r.intent == "who") who();
       else if (r.intent == "what_do_you_see") what_do_you_see();
+      else if (r.intent == "is_there") is_there(lower(r.slots.at("object").get<std::string>()));
       else if (r.intent == "enroll") enroll(person_name(r.slots.at("name").get<std::string>()));
       else if (r.intent == "forget") forget(person_name(r.slots.at("name").get<std::string>()));
       else if (r.intent == "teach_object") teach_object(lower(r.slots.at("thing").get<std::string>()));
@@ -101,11 +159,20 @@ class FacesSkill : public marvin::Skill {
 
   void what_do_you_see() {
     const json seen = robot().vision_look();
-    std::vector<std::string> things = people_in(seen);
-    for (const json& o : seen.value("objects", json::array())) {
-      things.push_back("a " + o.value("label", "thing"));
-    }
+    std::vector<std::string> things = things_in(seen);
+    for (const std::string& p : people_in(seen)) things.push_back(p);
     robot().say(things.empty() ? "I don't see anything I know." : "I see " + join_and(things) + ".");
+  }
+
+  void is_there(const std::string& thing) {
+    const json seen = robot().vision_look();
+    int n = 0;
+    for (const json& o : seen.value("objects", json::array())) n += o.value("label", "") == thing;
+    if (thing == "person") n = std::max(n, static_cast<int>(seen.value("faces", json::array()).size()));
+    const bool vowel = !thing.empty() && std::string("aeiou").find(thing[0]) != std::string::npos;
+    const std::string one = (vowel ? "an " : "a ") + thing;
+    if (n == 0) robot().say("No, I don't see " + one + ".");
+    else robot().say("Yes, I see " + (n == 1 ? one : count_word(n) + " " + plural(thing)) + ".");
   }
 
   void enroll(const std::string& name) {

@@ -48,7 +48,7 @@ TEST_CASE("what do you see; a camera that fails is said plainly") {
   h.robot().set_camera_view(
       R"({"faces":[{"name":"","box":[0,0,10,10]},{"name":"","box":[50,0,10,10]}],
           "objects":[{"label":"cup","box":[1,2,3,4],"score":0.9}]})");
-  CHECK(h.say("what do you see") == Lines{"I see two people I don't know and a cup."});
+  CHECK(h.say("what do you see") == Lines{"I see a cup and two people I don't know."});
   h.robot().set_camera_failure("camera /dev/video0: reading a frame failed (device unplugged?)");
   CHECK(h.say("who is this") ==
         Lines{"Sorry, I can't see anything right now: my camera is not working."});
@@ -68,4 +68,46 @@ TEST_CASE("these are my keys; do you see my keys") {
   CHECK(h.say("can you see my keys") == Lines{"Yes, I see your keys."});
   const Lines& actions = h.robot().actions();
   CHECK(std::count(actions.begin(), actions.end(), "teach_object keys") == 1);
+}
+
+TEST_CASE("what do you see: things by the names people use, counted, then the people") {
+  marvin::testing::SkillHarness h(FACES_SKILL_DIR);
+  // As vision_look reports them: COCO things with spoken labels, most confident first.
+  h.robot().set_camera_view(R"({"faces":[{"name":"Anna","box":[300,40,80,80]}],
+      "objects":[{"label":"cup","class":"cup","box":[1,2,3,4],"score":0.9},
+                 {"label":"person","class":"person","box":[280,20,200,400],"score":0.8},
+                 {"label":"chair","class":"chair","box":[10,200,90,120],"score":0.7},
+                 {"label":"remote control","class":"remote","box":[5,5,20,8],"score":0.6},
+                 {"label":"chair","class":"chair","box":[500,200,90,120],"score":0.5},
+                 {"label":"apple","class":"apple","box":[9,9,9,9],"score":0.4}]})");
+  CHECK(h.say("what do you see") ==
+        Lines{"I see a cup, two chairs, a remote control, an apple and Anna."});
+  CHECK(h.say("what's in front of you") ==
+        Lines{"I see a cup, two chairs, a remote control, an apple and Anna."});
+  // Someone seen from behind (a person, no face) is said; nobody is counted twice.
+  h.robot().set_camera_view(R"({"faces":[],
+      "objects":[{"label":"person","box":[1,2,3,4]},{"label":"phone","box":[1,2,3,4]}]})");
+  CHECK(h.say("what can you see") == Lines{"I see a phone and a person."});
+  h.robot().set_camera_view(R"({"faces":[{"name":"","box":[0,0,9,9]}],
+      "objects":[{"label":"person","box":[0,0,9,9]},{"label":"person","box":[50,0,9,9]},
+                 {"label":"person","box":[90,0,9,9]},{"label":"knife","box":[1,2,3,4]},
+                 {"label":"knife","box":[1,2,3,4]}]})");
+  CHECK(h.say("what do you see") ==
+        Lines{"I see two knives, two other people and someone I don't know."});
+  h.robot().set_camera_view(R"({"faces":[],"objects":[]})");
+  CHECK(h.say("what do you see") == Lines{"I don't see anything I know."});
+}
+
+TEST_CASE("do you see a phone; is there a cup: the things by the names people use") {
+  marvin::testing::SkillHarness h(FACES_SKILL_DIR);
+  h.robot().set_camera_view(R"({"faces":[{"name":"Anna","box":[300,40,80,80]}],
+      "objects":[{"label":"phone","class":"cell phone","box":[1,2,3,4],"score":0.6},
+                 {"label":"chair","class":"chair","box":[10,200,90,120],"score":0.7},
+                 {"label":"chair","class":"chair","box":[500,200,90,120],"score":0.5}]})");
+  CHECK(h.say("do you see a phone") == Lines{"Yes, I see a phone."});
+  CHECK(h.say("is there a cup") == Lines{"No, I don't see a cup."});
+  CHECK(h.say("can you see any chair") == Lines{"Yes, I see two chairs."});
+  CHECK(h.say("is there an apple") == Lines{"No, I don't see an apple."});
+  CHECK(h.say("do you see a person") == Lines{"Yes, I see a person."});
+  CHECK(h.say("do you see a remote control") == Lines{"No, I don't see a remote control."});
 }

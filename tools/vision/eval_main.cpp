@@ -13,6 +13,12 @@
 //       For the conversion check (tools/vision/reference_check.mjs): the 150x150 RGB chip of
 //       the largest face of each image (OUT_DIR/NAME.rgb, raw bytes) and our embedding
 //       (OUT_DIR/ours.json).
+//   marvin-vision-eval objects IMAGE...
+//       The COCO objects NanoDet finds in each image (label, COCO name, box, score).
+//   marvin-vision-eval object-outputs OUT_DIR IMAGE...
+//       For the object detector's conversion check (tools/vision/object_reference_check.mjs):
+//       the network input of each image (OUT_DIR/NAME.input, float32 1x3x416x416) and our six
+//       raw outputs in the TF.js graph's layout [1, cells, C] (OUT_DIR/ours.json).
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
@@ -28,6 +34,7 @@
 #include "vision/cameras.h"
 #include "vision/face_gallery.h"
 #include "vision/face_pipeline.h"
+#include "vision/object_detector.h"
 
 namespace fs = std::filesystem;
 using namespace marvin::vision;
@@ -196,11 +203,56 @@ int chips(const Args& a) {
   return 0;
 }
 
+int objects(const Args& a) {
+  ObjectDetector detector;
+  for (const auto& file : a.positional) {
+    const cv::Mat image = read_photo(file);
+    const auto found = detector.detect(image);
+    std::printf("%s (%dx%d): %zu objects\n", file.c_str(), image.cols, image.rows, found.size());
+    for (const auto& o : found) {
+      std::printf("  %-16s (%s) box %.0f %.0f %.0f %.0f score %.3f\n", o.label.c_str(),
+                  o.coco.c_str(), o.box.x, o.box.y, o.box.width, o.box.height, o.score);
+    }
+  }
+  return 0;
+}
+
+int object_outputs(const Args& a) {
+  if (a.positional.size() < 2) throw std::runtime_error("object-outputs: give OUT_DIR and images");
+  const fs::path out = a.positional[0];
+  fs::create_directories(out);
+  ObjectDetector detector;
+  nlohmann::json ours = nlohmann::json::object();
+  for (std::size_t i = 1; i < a.positional.size(); ++i) {
+    const fs::path file = a.positional[i];
+    const cv::Mat blob = ObjectDetector::to_blob(read_photo(file));
+    const std::string name = file.stem().string();
+    std::ofstream(out / (name + ".input"), std::ios::binary)
+        .write(reinterpret_cast<const char*>(blob.ptr<float>()),
+               static_cast<std::streamsize>(blob.total() * sizeof(float)));
+    nlohmann::json outputs = nlohmann::json::array();
+    for (const cv::Mat& m : detector.forward(blob)) {
+      // [1, C, H, W] -> [H*W, C], the graph's own output layout.
+      const int c = m.size[1], cells = m.size[2] * m.size[3];
+      const float* p = m.ptr<float>();
+      std::vector<float> t(static_cast<std::size_t>(c * cells));
+      for (int k = 0; k < c; ++k)
+        for (int j = 0; j < cells; ++j) t[static_cast<std::size_t>(j * c + k)] = p[k * cells + j];
+      outputs.push_back(t);
+    }
+    ours[name] = outputs;
+  }
+  std::ofstream(out / "ours.json") << ours.dump() << "\n";
+  std::printf("wrote %zu inputs and ours.json to %s\n", a.positional.size() - 1, out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s faces DIR | detect IMAGE... | chips OUT_DIR IMAGE...\n",
+    std::fprintf(stderr, "usage: %s faces DIR | detect IMAGE... | chips OUT_DIR IMAGE... | objects IMAGE... | "
+                 "object-outputs OUT_DIR IMAGE...\n",
                  argv[0]);
     return 2;
   }
@@ -210,6 +262,8 @@ int main(int argc, char** argv) {
     if (cmd == "faces") return faces(a);
     if (cmd == "detect") return detect(a);
     if (cmd == "chips") return chips(a);
+    if (cmd == "objects") return objects(a);
+    if (cmd == "object-outputs") return object_outputs(a);
     std::fprintf(stderr, "unknown command %s\n", cmd.c_str());
     return 2;
   } catch (const std::exception& e) {

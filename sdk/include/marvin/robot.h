@@ -175,8 +175,11 @@ typedef struct marvin_robot_api {
    *   {"width": 640, "height": 480,
    *    "faces":   [{"name": "Anna" | "" (someone unknown), "box": [x, y, w, h],
    *                 "distance": 0.12 (squared L2 to the nearest enrolled face, -1: none)}],
-   *    "objects": [{"label": "cup", "box": [x, y, w, h], "score": 0.8}]}
-   * Boxes are in pixels of that frame. Permission "camera". */
+   *    "objects": [{"label": "phone", "class": "cell phone", "box": [x, y, w, h],
+   *                 "score": 0.8}]}
+   * Objects are the COCO things the detector knows ("label": the name people use, "class":
+   * COCO's; "person" included) and the things the user taught (vision_teach_object: the
+   * taught name, no "class"). Boxes are in pixels of that frame. Permission "camera". */
   marvin_status (*vision_look)(marvin_host* host, marvin_text_out* seen_json);
   /* Takes a photo (JPEG) and writes the file's path. Photos are only kept when the user
    * asked for one; the skill owns the file. Permission "camera". */
