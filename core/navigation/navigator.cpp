@@ -16,6 +16,26 @@ std::string with_the(const std::string& name) {
   return "the " + name;
 }
 
+// The path cut where it first comes within `keep_m` of `at` (unchanged if it never does, or
+// already starts that close).
+std::vector<Vec2> stop_short(std::vector<Vec2> path, Vec2 at, double keep_m) {
+  if (path.size() < 2 || distance(path.front(), at) <= keep_m) return path;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const Vec2 a = path[i - 1], b = path[i];
+    if (distance(b, at) > keep_m) continue;
+    // The point on ab at keep_m from `at` (bisection: the distance falls along ab here).
+    double lo = 0, hi = 1;
+    for (int k = 0; k < 30; ++k) {
+      const double mid = (lo + hi) / 2;
+      (distance(a + (b - a) * mid, at) > keep_m ? lo : hi) = mid;
+    }
+    path.resize(i);
+    path.push_back(a + (b - a) * hi);
+    return path;
+  }
+  return path;
+}
+
 }  // namespace
 
 Navigator::Navigator(FloorMap map, devices::Body& body, PoseSource pose, ScanSource scan,
@@ -88,6 +108,9 @@ GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
       result.reason = blocked_reason(*target);
       return result;
     }
+    // A person: stop at arm's length, facing them, not on their toes (the camera then
+    // sees their whole face).
+    if (target->kind == Target::Kind::kPerson) *path = stop_short(*path, target->at, 0.7);
     {
       std::lock_guard plock(path_mutex_);
       path_ = *path;

@@ -80,7 +80,9 @@ void Guard::run() {
     }
     int unknown = 0;
     for (const auto& f : nlohmann::json::parse(seen).value("faces", nlohmann::json::array())) {
-      if (f.value("name", "").empty()) ++unknown;
+      const auto box = f.value("box", nlohmann::json::array());
+      const double h = box.size() == 4 ? box[3].get<double>() : 0;
+      if (f.value("name", "").empty() && h >= options_.min_face_px) ++unknown;
     }
     streak = unknown > 0 ? streak + 1 : 0;
     if (streak >= options_.frames_needed && !alerted_here) {

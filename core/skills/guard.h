@@ -1,6 +1,7 @@
 // Guard mode (issue 22, intruder detection): while on, a thread watches through the
-// robot's camera and turns slowly in place, a stop at a time; a face nobody enrolled seen in
-// `frames_needed` consecutive looks at one stop is an intruder: the alert callback gets a
+// robot's camera where it faces (a door, by default; with `turn_deg` it also turns in place a
+// stop at a time, but then "I'm home" may find it facing away); a face nobody enrolled, big
+// enough to identify (`min_face_px`), seen in `frames_needed` consecutive looks is an intruder: the alert callback gets a
 // photo taken then (it says so, logs the event, publishes it). A still picture of a person
 // (a TV, a poster) is the false alarm this cannot tell apart yet; requiring several frames
 // removes the one-frame misdetections only. Known faces never alert.
@@ -32,7 +33,10 @@ struct GuardOptions {
   int frames_needed = 3;               // consecutive looks with an unknown face
   std::chrono::milliseconds look{250}; // robot time between looks
   int looks_per_stop = 4;              // then turn `turn_deg` (0: never turn)
-  double turn_deg = 45;
+  double turn_deg = 0;
+  // A face smaller than this (pixels high) is too far to tell known from unknown: a known
+  // face across the room is often not recognised, and must not raise an alarm.
+  double min_face_px = 40;
   double time_scale = 1;               // robot seconds per wall second
   bool watch = true;                   // false: state only, no thread (the MockRobot)
 };

@@ -94,6 +94,7 @@ navigation::GoResult MockRobot::Impl::go_to(std::string_view target,
     if (place_key(name) == place_key(target)) {
       room = in_room;
       home.room = in_room;
+      heading = 0;
       if (!room_views.empty()) {
         auto view = room_views.find(in_room);
         eyes.set_view(view != room_views.end() ? view->second
@@ -113,6 +114,15 @@ std::optional<std::string> MockRobot::Impl::where_am_i() {
 
 bool MockRobot::Impl::turn(double degrees, const navigation::WaitFn& wait) {
   actions.push_back("turn " + std::to_string(static_cast<int>(std::lround(degrees))));
+  // A room's view is what the camera sees facing the way the robot came in; turned away
+  // from it, it sees nothing.
+  heading = std::fmod(std::fmod(heading + degrees, 360.0) + 360.0, 360.0);
+  if (!room_views.empty()) {
+    auto view = room_views.find(room);
+    const bool facing = heading < 1 || heading > 359;
+    eyes.set_view(facing && view != room_views.end() ? view->second
+                                                     : R"({"faces": [], "objects": []})");
+  }
   return !wait(std::chrono::milliseconds(0));
 }
 std::optional<navigation::GoingPlaces::Spot> MockRobot::Impl::locate(double, double) {

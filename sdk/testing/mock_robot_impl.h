@@ -66,6 +66,7 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   std::string room = "hall";
   FakeHome home;
   std::map<std::string, std::string> room_views;  // room -> vision_look JSON
+  double heading = 0;  // degrees turned since arriving in the room
   skills::InMemorySightingLog sightings{[this] { return now_ms; }};
   std::unique_ptr<skills::Guard> guard;
   std::vector<skills::HostServices::LoggedEvent> events;

@@ -19,6 +19,7 @@
  *   "vision", "phone", "smarthome"    the capabilities of later releases
 
  *   "smarthome" smarthome_set, smarthome_devices (API 1.2)
+ *   "events"    events_list (API 1.3): the owner's event log (who came while out)
  *   "vision", "phone"                 the capabilities of later releases
  * Calls without the permission fail with MARVIN_ERR_PERMISSION and change nothing.
  *

@@ -83,7 +83,8 @@ class MockRobot {
 
   // Finding and guarding (API 1.3). What the camera sees while the robot is in `room`
   // (after go_to took it there; the first view also turns the camera on, as
-  // set_camera_view does). look_around looks at it at every stop; turn() records
+  // set_camera_view does), facing the way it came in: look_around sees it at its first
+  // stop only; turn() records
   // "turn <degrees>"; rooms_to_search() is the robot's room, then the other rooms of
   // add_place() in the order added; place_find() knows add_place()'s names (a name
   // starting with a capital letter is a person). Sightings are kept in memory.
