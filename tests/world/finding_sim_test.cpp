@@ -88,3 +88,22 @@ TEST_CASE("run --sim: guard mode alerts on Sam with a photo; only Anna's face tu
   }
   CHECK(photos == 1);
 }
+
+TEST_CASE("run --sim: guide me to the kitchen arrives without a collision; the sonar tells") {
+  marvin::test_support::TempDir dir;
+  fs::create_directories(dir.path() / "skills");
+  ChildProcess marvin({MARVIN_EXE, "run", "--sim", "--in-memory", "--skills-dir",
+                       (dir.path() / "skills").string(), "--speed", "20"});
+  marvin.wait_for_line("Marvin: Hello, I'm Marvin.");
+  marvin.send_line("guide me to the kitchen");
+  marvin.wait_for_line("Marvin: Follow me to the kitchen. I'll stop if something is in the way.");
+  marvin.wait_for_line("Marvin: We're there: the kitchen.");
+  marvin.send_line("guide me to the garage");
+  marvin.wait_for_line("Marvin: I don't know where the garage is.");
+  marvin.send_line("is the way clear");
+  const std::string answer = marvin.wait_for_line_containing("Marvin: ");
+  CHECK((answer.find("Marvin: Yes, the way ahead is clear") == 0 ||
+         answer.find("Marvin: No: ") == 0));
+  CHECK(exit_code(marvin.finish()) == 0);
+  CHECK(marvin.output().find("[collision") == std::string::npos);
+}
