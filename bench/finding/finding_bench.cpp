@@ -6,11 +6,14 @@
 //   2. "go to Sam", "guard the house": alerted, and how long after guard mode came on
 //      (robot time; Sam is in view from then on)?
 //   3. "go to Anna", "guard the house", 20 s of robot time: any alert (a false alarm)?
+//   4. "guide me to" a random room: arrived, and collisions; every fifth run the bedroom
+//      with its door closed: "I can't guide you ..."?
 // Anna's face is enrolled once, from the default home, into a template store each run
 // copies. Limits: the map's "last known spot" of a person is where the run placed them,
 // so the first room searched is right unless the spot lies in a doorway's reach of
 // another room; the figure is for looking and recognising, less for the search order.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -67,6 +70,7 @@ struct Transcript {
 
 struct Session {
   Transcript said;
+  std::atomic<int> collisions{0};
   std::unique_ptr<marvin::app::Host> host;
   std::thread loop;
   Session(const fs::path& world, const fs::path& data, double speed, std::uint64_t seed) {
@@ -76,7 +80,9 @@ struct Session {
     o.sim_speed = speed;
     o.sim_seed = seed;
     o.time_zone = "UTC";
-    host = std::make_unique<marvin::app::Host>(o, [](std::string_view) {});
+    host = std::make_unique<marvin::app::Host>(o, [this](std::string_view line) {
+      if (line.find("[collision") != std::string_view::npos) ++collisions;
+    });
     host->on_said([this](std::string_view s) { said.add(s); });
     host->load();
     loop = std::thread([this] { host->loop().run(); });
@@ -158,6 +164,7 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
+  int arrived = 0, path_runs = 0, said_cant = 0, no_path_runs = 0, collisions = 0;
   int found_right = 0, found_wrong = 0, not_found = 0, alerted = 0, alert_in_5s = 0,
       false_alarms = 0;
   std::vector<double> find_s, alert_s;
@@ -213,9 +220,33 @@ int main(int argc, char** argv) {
              .empty()) {
       ++false_alarms;
     }
+    // 4. Guidance to a random room (every fifth run: the bedroom, its door closed).
+    std::string guide_room = w["rooms"][rng() % w["rooms"].size()]["name"].get<std::string>();
+    const bool no_path = run % 5 == 4;
+    std::string guided;
+    if (no_path) {
+      json closed = w;
+      for (auto& d : closed["doors"]) {
+        if (d["name"] == "bedroom door") d["open"] = false;
+      }
+      std::ofstream(dir / "closed.json") << closed.dump(1);
+      Session g(dir / "closed.json", dir / "closed-data", speed, static_cast<std::uint64_t>(run) + 1);
+      guided = g.ask("guide me to the bedroom", {"We're there", "I can't"});
+      if (guided.find("I can't guide you to the bedroom") != std::string::npos) ++said_cant;
+      collisions += g.collisions.load();
+      ++no_path_runs;
+    } else {
+      const int before = s.collisions.load();
+      guided = s.ask("guide me to the " + guide_room, {"We're there", "I can't"});
+      if (guided.find("We're there") != std::string::npos) ++arrived;
+      ++path_runs;
+      collisions += s.collisions.load() - before;
+    }
     std::printf("run %2d: Anna in the %-11s -> %-45s | Sam in the %-11s -> %s\n", run,
                 anna.room.c_str(), answer.c_str(), sam.room.c_str(),
                 alert.empty() ? "no alert" : "alert");
+    std::printf("        guide to the %s%s -> %s\n", no_path ? "bedroom" : guide_room.c_str(),
+                no_path ? " (door closed)" : "", guided.c_str());
     std::fflush(stdout);
   }
   fs::remove_all(work);
@@ -228,5 +259,9 @@ int main(int argc, char** argv) {
               "(%.1f %%), median %.1f s; enrolled Anna only: %d false alarms in %d runs\n",
               alerted, runs, 100.0 * alerted / runs, alert_in_5s, 100.0 * alert_in_5s / runs,
               median(alert_s), false_alarms, runs);
+  std::printf("guidance: arrived in %d/%d runs with a path (%.1f %%); \"I can't\" in %d/%d runs "
+              "without one; %d collisions\n",
+              arrived, path_runs, path_runs ? 100.0 * arrived / path_runs : 0.0, said_cant,
+              no_path_runs, collisions);
   return 0;
 }
