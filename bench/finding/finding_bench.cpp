@@ -206,9 +206,14 @@ int main(int argc, char** argv) {
                                               static_cast<int>(std::max(2.0, 20 / speed * 4))));
     if (!alert.empty()) {
       ++alerted;
-      const double a = std::chrono::duration<double>(Clock::now() - t0).count() * speed;
-      alert_s.push_back(a);
-      if (a <= 5) ++alert_in_5s;
+      // At --speed N the guard's 250 ms pauses between looks shrink N times but the camera
+      // pipeline's time does not, so robot time (wall x N) overstates the latency N times
+      // for the pipeline's share. The latency at real speed: the wall time plus the pauses
+      // as they would be (3 looks x 250 ms) minus them as they were.
+      const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+      const double real = wall + 3 * 0.25 * (1 - 1 / speed);
+      alert_s.push_back(real);
+      if (real <= 5) ++alert_in_5s;
     }
     s.ask("go to Anna", {"I'm at Anna", "Sorry"});
     s.ask("i'm home", {"Welcome back", "I can only"});
@@ -256,7 +261,8 @@ int main(int argc, char** argv) {
               found_right, runs, 100.0 * found_right / runs, found_wrong, not_found,
               median(find_s));
   std::printf("intruder: %d/%d alerted (%.1f %%), %d within 5 s of guard mode with Sam in view "
-              "(%.1f %%), median %.1f s; enrolled Anna only: %d false alarms in %d runs\n",
+              "(%.1f %%), median %.2f s (at real speed: wall time with the guard's pauses "
+              "restored); enrolled Anna only: %d false alarms in %d runs\n",
               alerted, runs, 100.0 * alerted / runs, alert_in_5s, 100.0 * alert_in_5s / runs,
               median(alert_s), false_alarms, runs);
   std::printf("guidance: arrived in %d/%d runs with a path (%.1f %%); \"I can't\" in %d/%d runs "
