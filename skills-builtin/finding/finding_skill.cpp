@@ -160,7 +160,10 @@ class FindingSkill : public marvin::Skill {
     if (seen && !search_now && now - seen->value("seen_unix_ms", std::int64_t{0}) <= kRecentMs) {
       robot().say("I saw " + w.said() + " " + where_words(*seen) + ", " +
                   ago(now - seen->value("seen_unix_ms", now)) + ".");
-      return;
+      const std::string answer = lower(robot().ask("Shall I look again?"));
+      if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please") {
+        return;
+      }
     }
     if (!w.person && !w.mine && !seen && !knows_look(w)) {
       robot().say("I don't know who or what " + w.key + " is.");

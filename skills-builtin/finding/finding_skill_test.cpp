@@ -32,7 +32,8 @@ TEST_CASE("find Anna: searches the rooms, the map's room for her first, and repo
         Lines{"I'll look for Anna.", "Anna is in the kitchen."});
   // Now from memory, without moving.
   h.robot().clear();
-  CHECK(h.say("where is anna") == Lines{"I saw Anna in the kitchen, just now."});
+  CHECK(h.say("where is anna", {"no"}) ==
+        Lines{"I saw Anna in the kitchen, just now.", "Shall I look again?"});
   const std::string actions = joined(h.robot().actions());
   INFO(actions);
   CHECK(actions.find("go_to") == std::string::npos);
@@ -65,13 +66,17 @@ TEST_CASE("where are my keys: search, report, lead the way; never seen and never
   h.robot().set_room_view("bedroom", kKeys);
   // Seen while looking for people in the bedroom: every look records what it saw.
   CHECK(h.say("is anyone in the bedroom") == Lines{"No, I don't see anyone in the bedroom."});
-  const Lines keys = h.say("where are my keys");
+  const Lines keys = h.say("where are my keys", {"no"});
   INFO(joined(keys));
-  CHECK(keys == Lines{"I saw your keys in the bedroom, just now."});
+  CHECK(keys == Lines{"I saw your keys in the bedroom, just now.", "Shall I look again?"});
   h.robot().set_room("hall");
   CHECK(h.say("find my keys", {"yes"}) ==
         Lines{"I'll look for your keys.", "Your keys are in the bedroom.",
               "Shall I show you the way?", "Here we are: the bedroom."});
+  CHECK(h.say("have you seen my keys", {"yes", "no"}) ==
+        Lines{"I saw your keys in the bedroom, just now.", "Shall I look again?",
+              "I'll look for your keys.", "Your keys are in the bedroom.",
+              "Shall I show you the way?"});
   CHECK(h.say("where is my umbrella").back().rfind("I don't know what your umbrella look like", 0) == 0);
 }
 

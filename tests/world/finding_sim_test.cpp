@@ -44,6 +44,8 @@ TEST_CASE("run --sim: find Anna from the kitchen, then from memory; who is in th
   marvin.wait_for_line_containing("Marvin: Anna is in the living room");
   marvin.send_line("where is anna");
   marvin.wait_for_line_containing("Marvin: I saw Anna in the living room");
+  marvin.wait_for_line("Marvin: Shall I look again?");
+  marvin.send_line("no");
   marvin.send_line("is anyone in the bedroom");
   marvin.wait_for_line("Marvin: Yes: someone I don't know is in the bedroom.");
   marvin.send_line("tell anna dinner is ready");
