@@ -596,6 +596,86 @@ int l_vision_find(lua_State* L) {
   return 1;
 }
 
+// --- finding and guarding (Robot API 1.3) ------------------------------------------------------
+
+// marvin.finding.look_around([stops]): turns a full circle looking; {stops, seen = {...}}.
+int l_look_around(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const auto stops = static_cast<std::uint32_t>(luaL_optinteger(L, 1, 0));
+  require_permission(L, ctx, "camera", "finding.look_around");
+  require_permission(L, ctx, "motion", "finding.look_around");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, look_around), "finding.look_around");
+  Sandbox* sb = ctx->sandbox.get();
+  sb->pause_clock();  // the body's time is not the script's
+  const marvin_status status = ctx->call_text(
+      [ctx, stops](marvin_text_out* out) { return ctx->api->look_around(ctx->host, stops, out); });
+  sb->resume_clock();
+  check(L, ctx, "finding.look_around", status);
+  push_json_text(L, ctx, "finding.look_around");
+  return 1;
+}
+
+// marvin.finding.sightings([what [, since_ms]]): where things were seen, newest first.
+int l_sightings(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* what = luaL_optstring(L, 1, "");
+  const auto since = static_cast<std::int64_t>(luaL_optinteger(L, 2, 0));
+  require_permission(L, ctx, "camera", "finding.sightings");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, sightings_find), "finding.sightings");
+  const marvin_status status = ctx->call_text([ctx, what, since](marvin_text_out* out) {
+    return ctx->api->sightings_find(ctx->host, what, since, out);
+  });
+  check(L, ctx, "finding.sightings", status);
+  push_json_text(L, ctx, "finding.sightings");
+  return 1;
+}
+
+// marvin.finding.rooms(): the rooms in the order a search visits them.
+int l_rooms_to_search(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "sensors", "finding.rooms");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, rooms_to_search), "finding.rooms");
+  const marvin_status status = ctx->call_text(
+      [ctx](marvin_text_out* out) { return ctx->api->rooms_to_search(ctx->host, out); });
+  check(L, ctx, "finding.rooms", status);
+  push_json_text(L, ctx, "finding.rooms");
+  return 1;
+}
+
+// marvin.finding.guard(mode): 1 on, 0 off (false and the reason unless a known face is in
+// view), -1 report; the state table {on, since_unix_ms, alerts, by}.
+int l_guard(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const auto mode = static_cast<std::int32_t>(luaL_checkinteger(L, 1));
+  require_permission(L, ctx, "camera", "finding.guard");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, guard), "finding.guard");
+  const marvin_status status = ctx->call_text(
+      [ctx, mode](marvin_text_out* out) { return ctx->api->guard(ctx->host, mode, out); });
+  if (status == MARVIN_ERR_PERMISSION && mode == 0) {
+    lua_pushboolean(L, 0);
+    lua_pushstring(L, ctx->api->last_error(ctx->host));
+    return 2;
+  }
+  check(L, ctx, "finding.guard", status);
+  push_json_text(L, ctx, "finding.guard");
+  return 1;
+}
+
+// marvin.finding.events([kind [, since_ms]]): the owner's event log, newest first.
+int l_events(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* kind = luaL_optstring(L, 1, "");
+  const auto since = static_cast<std::int64_t>(luaL_optinteger(L, 2, 0));
+  require_permission(L, ctx, "events", "finding.events");
+  need(L, ctx, MARVIN_HAS_SLOT(ctx, events_list), "finding.events");
+  const marvin_status status = ctx->call_text([ctx, kind, since](marvin_text_out* out) {
+    return ctx->api->events_list(ctx->host, kind, since, out);
+  });
+  check(L, ctx, "finding.events", status);
+  push_json_text(L, ctx, "finding.events");
+  return 1;
+}
+
 void set_functions(lua_State* L, const luaL_Reg* functions) { luaL_setfuncs(L, functions, 0); }
 
 }  // namespace
@@ -659,6 +739,17 @@ void install_marvin_api(lua_State* L, SkillContext* ctx) {
   set_functions(L, vision);
   Sandbox::make_read_only(L, "marvin.vision");
   lua_setfield(L, -2, "vision");
+
+  lua_createtable(L, 0, 5);
+  static const luaL_Reg finding[] = {{"look_around", l_look_around},
+                                     {"sightings", l_sightings},
+                                     {"rooms", l_rooms_to_search},
+                                     {"guard", l_guard},
+                                     {"events", l_events},
+                                     {nullptr, nullptr}};
+  set_functions(L, finding);
+  Sandbox::make_read_only(L, "marvin.finding");
+  lua_setfield(L, -2, "finding");
 
   Sandbox::make_read_only(L, "marvin");
   Sandbox::from(L)->set_protected_global(L, "marvin");

@@ -34,6 +34,14 @@ class TestWorld : public devices::Body, public skills::User {
     services_.now_ms = [this] { return now_ms; };
     services_.time_zone = "UTC";
     services_.wait_for_motion = false;
+    services_.sightings = &sightings_;
+    services_.events = [this](std::string_view kind, std::int64_t since) {
+      std::vector<skills::HostServices::LoggedEvent> out;
+      for (auto it = events_.rbegin(); it != events_.rend(); ++it) {
+        if (it->time_ms >= since && (kind.empty() || it->kind == kind)) out.push_back(*it);
+      }
+      return out;
+    };
     registry_ = std::make_unique<skills::Registry>(services_);
     registry_->add_runtime(std::make_unique<LuaRuntime>());
     skills::ManagerOptions options;
@@ -125,6 +133,10 @@ class TestWorld : public devices::Body, public skills::User {
     eyes_.set_view(seen_json);
     services_.eyes = &eyes_;
   }
+  // Finding (API 1.3): an event in the owner's log (robot.event); sightings in memory.
+  void add_event(const std::string& kind, const std::string& message) {
+    events_.push_back({kind, message, now_ms});
+  }
   void camera_fails(const std::string& message) {
     eyes_.set_failure(message);
     services_.eyes = &eyes_;
@@ -143,6 +155,8 @@ class TestWorld : public devices::Body, public skills::User {
   skills::InMemoryPersonalData data_;
   skills::ScriptedEyes eyes_{[this](std::string action) { actions.push_back(std::move(action)); }};
   skills::HostServices services_;
+  skills::InMemorySightingLog sightings_{[this] { return now_ms; }};
+  std::vector<skills::HostServices::LoggedEvent> events_;
   std::unique_ptr<skills::Registry> registry_;
   std::unique_ptr<skills::Manager> manager_;
 };
@@ -393,6 +407,14 @@ int t_camera_fails(lua_State* L) {
   return 0;
 }
 
+int t_event(lua_State* L) {
+  TestWorld& w = world_of(L);
+  const char* kind = luaL_checkstring(L, 1);
+  const char* message = luaL_checkstring(L, 2);
+  w.add_event(kind, message);
+  return 0;
+}
+
 int t_faces(lua_State* L) {
   push_strings(L, world_of(L).enrolled_faces(), 0);
   return 1;
@@ -421,7 +443,8 @@ int install_robot(lua_State* L) {
       {"actions", t_actions},   {"stored", t_stored},     {"reminders", t_reminders},
       {"advance", t_advance},   {"now", t_now},           {"set_now", t_set_now},
       {"add_contact", t_add_contact}, {"intent", t_intent}, {"camera", t_camera},
-      {"camera_fails", t_camera_fails}, {"faces", t_faces}, {nullptr, nullptr}};
+      {"camera_fails", t_camera_fails}, {"faces", t_faces}, {"event", t_event},
+      {nullptr, nullptr}};
   lua_createtable(L, 0, 16);
   lua_pushlightuserdata(L, tester);
   luaL_setfuncs(L, functions, 1);

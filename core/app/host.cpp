@@ -1,5 +1,6 @@
 #include "app/host.h"
 #include "app/sim_home.h"
+#include "app/store_sightings.h"
 
 #include "devices/serial_body.h"
 
@@ -293,6 +294,7 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   services_.user = manager_.get();
   loop_->attach(*manager_, registry_->interpreter());
   reloader_ = std::make_unique<SkillReloader>(*registry_);
+  wire_finding();
   if (options_.home) start_home();
   // Skill timers (marvin.after) run on the loop, never while a long task runs.
   loop_->set_timers(skills::HostLoop::Timers{
@@ -321,6 +323,7 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
 
 Host::~Host() {
   watcher_.reset();    // no reload requests from now on
+  guard_.reset();      // its thread looks through eyes_ and speaks through loop_
   manager_.reset();    // joins a running task first
   home_link_.reset();
   home_.reset();       // says "offline" on the bus
@@ -330,6 +333,47 @@ Host::~Host() {
   mirrored_body_.reset();
   eyes_.reset();  // the simulated camera reads the sim's world
   sim_home_.reset();
+}
+
+// Finding and guarding (issue 22, API 1.3): sightings in the store (in memory with
+// --in-memory), guard mode on the camera, the event log for "who came while I was out?".
+void Host::wire_finding() {
+  if (store_) {
+    sightings_ = std::make_unique<StoreSightingLog>(*store_);
+    services_.events = [store = store_.get()](std::string_view kind, std::int64_t since) {
+      std::vector<skills::HostServices::LoggedEvent> out;
+      for (const data::Event& e : store->recent_events(200)) {
+        if (e.time_utc_ms < since) break;
+        if (kind.empty() || e.kind == kind) out.push_back({e.kind, e.message, e.time_utc_ms});
+      }
+      return out;
+    };
+  } else {
+    sightings_ = std::make_unique<skills::InMemorySightingLog>(services_.now_ms);
+  }
+  services_.sightings = sightings_.get();
+  if (!eyes_) return;
+  skills::GuardOptions guard;
+  if (services_.going_places) guard.time_scale = services_.going_places->time_scale();
+  guard_ = std::make_unique<skills::Guard>(
+      *eyes_, services_.going_places, services_.now_ms,
+      [this](const std::string& photo, const std::string& who) {
+        std::string where;
+        if (services_.going_places) {
+          if (auto room = services_.going_places->where_am_i()) where = " in the " + *room;
+        }
+        const std::string message = "Intruder alert: I see " + who + where + "." +
+                                    (photo.empty() ? "" : " Photo: " + photo);
+        try {
+          data_->log_event("intruder", "guard", message);
+        } catch (const std::exception& e) {
+          log(LogLevel::kWarning, "guard", std::string("event not logged: ") + e.what());
+        }
+        publish_event("intruder", message);
+        loop_->say("Intruder alert! I see " + who + where + ". I took a photo and told your carer.");
+      },
+      guard);
+  services_.guard = guard_.get();
 }
 
 void Host::add_runtime(std::unique_ptr<skills::SkillRuntime> runtime) {

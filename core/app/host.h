@@ -157,6 +157,7 @@ class Host {
   void publish_event(const std::string& event_type, const std::string& text);
 
  private:
+  void wire_finding();
   HostOptions options_;
   Console console_;
   ConsoleBody body_;
@@ -169,6 +170,8 @@ class Host {
   std::unique_ptr<data::Clock> clock_;
   std::unique_ptr<data::PersonalData> data_;  // notifies the scheduler of reminder changes
   std::unique_ptr<skills::Eyes> eyes_;        // with a camera
+  std::unique_ptr<skills::SightingLog> sightings_;  // finding (API 1.3)
+  std::unique_ptr<skills::Guard> guard_;            // with a camera; stopped first
   struct Reminders;                           // the Scheduler and its io_context thread
   std::unique_ptr<Reminders> reminders_;
   skills::HostServices services_;

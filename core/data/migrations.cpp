@@ -91,6 +91,19 @@ CREATE TABLE contact_sip_uris(
   uri TEXT NOT NULL,
   PRIMARY KEY (contact_id, position));
 )sql",
+    // 5 -> 6: finding (issue 22): where each known person or thing was seen last. One row
+    // per thing (what + kind), replaced at every sighting, so the table stays as small as
+    // the number of things Marvin knows.
+    R"sql(
+CREATE TABLE sightings(
+  what TEXT NOT NULL COLLATE NOCASE CHECK (what <> ''),
+  kind TEXT NOT NULL CHECK (kind IN ('person', 'object')),
+  room TEXT NOT NULL,
+  near TEXT NOT NULL,
+  seen_utc_ms INTEGER NOT NULL,
+  PRIMARY KEY (what, kind)) WITHOUT ROWID;
+CREATE INDEX sightings_room ON sightings(room, seen_utc_ms);
+)sql",
 };
 
 }  // namespace

@@ -10,6 +10,9 @@
 //   2  people and their face embeddings
 //   3  reminders: created/last-fired times and the (state, next fire) index the scheduler
 //      uses; alias lookup index
+//   4  smart-home device aliases
+//   5  SIP addresses and the emergency order of contacts
+//   6  sightings: where each known person or thing was seen last (issue 22)
 #pragma once
 
 #include <sqlite3.h>
@@ -19,7 +22,7 @@
 
 namespace marvin::data {
 
-inline constexpr int kSchemaVersion = 5;
+inline constexpr int kSchemaVersion = 6;
 inline constexpr std::int32_t kApplicationId = 0x4d52564e;  // "MRVN"
 
 // Migrates `db` (already open, at version `from`) to `to` <= kSchemaVersion, one

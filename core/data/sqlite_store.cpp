@@ -640,6 +640,30 @@ void SqliteStore::log_event(std::string_view kind, std::string_view source, std:
   s.bind(1, now()).bind(2, kind).bind(3, source).bind(4, message).run();
 }
 
+void SqliteStore::record_sighting(const Sighting& g) {
+  if (g.what.empty()) throw std::invalid_argument("sighting: 'what' is empty");
+  if (g.kind != "person" && g.kind != "object") {
+    throw std::invalid_argument("sighting of " + g.what + ": kind is '" + g.kind +
+                                "', expected person or object");
+  }
+  std::lock_guard lock(mutex_);
+  Statement s(db_, path_text_,
+              "INSERT OR REPLACE INTO sightings(what, kind, room, near, seen_utc_ms) "
+              "VALUES(?,?,?,?,?)");
+  s.bind(1, g.what).bind(2, g.kind).bind(3, g.room).bind(4, g.near).bind(5, now()).run();
+}
+
+std::vector<Sighting> SqliteStore::sightings(std::string_view what, std::int64_t since_utc_ms) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, path_text_,
+              "SELECT what, kind, room, near, seen_utc_ms FROM sightings "
+              "WHERE (?1 = '' OR what = ?1) AND seen_utc_ms >= ?2 ORDER BY seen_utc_ms DESC");
+  s.bind(1, what).bind(2, since_utc_ms);
+  std::vector<Sighting> out;
+  while (s.step()) out.push_back({s.text(0), s.text(1), s.text(2), s.text(3), s.int64(4)});
+  return out;
+}
+
 std::vector<Event> SqliteStore::recent_events(std::size_t limit) {
   std::lock_guard lock(mutex_);
   Statement s(db_, path_text_,

@@ -29,6 +29,7 @@
 
 #include "data/clock.h"
 #include "data/personal_data.h"
+#include "data/sighting.h"
 
 struct sqlite3;
 
@@ -148,6 +149,14 @@ class SqliteStore final : public PersonalData {
                                   std::span<const float> values);
   // All embeddings, or those of one person.
   std::vector<FaceEmbedding> face_embeddings(std::optional<std::int64_t> person_id = {});
+
+  // --- sightings (finding, issue 22) -------------------------------------------------
+  // Records that `s.what` was seen now (the store's clock stamps it, replacing what was
+  // recorded for it before). Empty what/room or a kind other than person/object:
+  // std::invalid_argument, nothing stored.
+  void record_sighting(const Sighting& s);
+  // Sightings seen at or after `since_utc_ms`, newest first; `what` empty: all.
+  std::vector<Sighting> sightings(std::string_view what, std::int64_t since_utc_ms = 0);
 
   // --- event log ----------------------------------------------------------------
   // The latest `limit` events, newest first.

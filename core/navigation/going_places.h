@@ -39,6 +39,38 @@ class GoingPlaces {
   virtual std::vector<std::string> place_names() const { return {}; }
   // The room the robot believes it is in; nullopt between rooms (a doorway) or outside.
   virtual std::optional<std::string> where_am_i() = 0;
+
+  // --- finding (API 1.3); the defaults are a robot without a map ---------------------
+  // Turns in place by `degrees` (counter-clockwise positive); false when cancelled.
+  virtual bool turn(double degrees, const WaitFn& wait) {
+    (void)degrees;
+    (void)wait;
+    return false;
+  }
+  // Where something seen `bearing_deg` off the robot's heading (left positive) about
+  // `distance_m` away is: the room it is in and the nearest furniture or place within
+  // 1.5 m ("kitchen table"; "" when none). nullopt without a map.
+  struct Spot {
+    std::string room;
+    std::string near;
+  };
+  virtual std::optional<Spot> locate(double bearing_deg, double distance_m) {
+    (void)bearing_deg;
+    (void)distance_m;
+    return std::nullopt;
+  }
+  // Every room, in the order a search visits them from where the robot is: the room it is
+  // in first, then the nearest of the rest each time (by straight line between spots).
+  virtual std::vector<std::string> rooms_to_search() { return {}; }
+  // What a name the user said is on the map: {"Anna", "person", "living room"},
+  // {"the sofa", "place", "living room"}, {"kitchen", "room", "kitchen"}; nullopt if unknown.
+  struct PlaceInfo {
+    std::string name, kind, room;
+  };
+  virtual std::optional<PlaceInfo> find_place(std::string_view name) {
+    (void)name;
+    return std::nullopt;
+  }
 };
 
 }  // namespace marvin::navigation

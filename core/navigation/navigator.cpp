@@ -1,5 +1,6 @@
 #include "navigation/navigator.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 
@@ -13,6 +14,26 @@ std::string with_the(const std::string& name) {
   if (name.rfind("the ", 0) == 0 || name.empty()) return name;
   if (std::isupper(static_cast<unsigned char>(name[0]))) return name;  // a person
   return "the " + name;
+}
+
+// The path cut where it first comes within `keep_m` of `at` (unchanged if it never does, or
+// already starts that close).
+std::vector<Vec2> stop_short(std::vector<Vec2> path, Vec2 at, double keep_m) {
+  if (path.size() < 2 || distance(path.front(), at) <= keep_m) return path;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const Vec2 a = path[i - 1], b = path[i];
+    if (distance(b, at) > keep_m) continue;
+    // The point on ab at keep_m from `at` (bisection: the distance falls along ab here).
+    double lo = 0, hi = 1;
+    for (int k = 0; k < 30; ++k) {
+      const double mid = (lo + hi) / 2;
+      (distance(a + (b - a) * mid, at) > keep_m ? lo : hi) = mid;
+    }
+    path.resize(i);
+    path.push_back(a + (b - a) * hi);
+    return path;
+  }
+  return path;
 }
 
 }  // namespace
@@ -87,6 +108,9 @@ GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
       result.reason = blocked_reason(*target);
       return result;
     }
+    // A person: stop at arm's length, facing them, not on their toes (the camera then
+    // sees their whole face).
+    if (target->kind == Target::Kind::kPerson) *path = stop_short(*path, target->at, 0.7);
     {
       std::lock_guard plock(path_mutex_);
       path_ = *path;
@@ -94,6 +118,14 @@ GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
     switch (follow(*path, wait, deadline)) {
       case Follow::kArrived:
         body_.stop();
+        // A person: look at them ("who is this?" right after "go to Anna" sees her).
+        if (target->kind == Target::Kind::kPerson) {
+          const Vec2 to = target->at - pose_().position();
+          if (length(to) > 0.05 && !turn_to(std::atan2(to.y, to.x), wait)) {
+            result.outcome = GoResult::Outcome::kCancelled;
+            result.reason = "stopped";
+          }
+        }
         return result;
       case Follow::kCancelled:
         body_.stop();
@@ -113,6 +145,92 @@ GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
   result.outcome = GoResult::Outcome::kGaveUp;
   result.reason = blocked_reason(*target);
   return result;
+}
+
+bool Navigator::turn(double degrees_ccw, const WaitFn& wait) {
+  std::lock_guard lock(run_mutex_);
+  stop_requested_.store(false);
+  // Big turns go in steps of at most 120 degrees, so the direction is never ambiguous.
+  double left = radians(degrees_ccw);
+  while (std::fabs(left) > 1e-9) {
+    const double step = std::clamp(left, -radians(120), radians(120));
+    if (!turn_to(wrap_angle(pose_().heading + step), wait)) return false;
+    left -= step;
+  }
+  return true;
+}
+
+bool Navigator::turn_to(double heading, const WaitFn& wait) {
+  const auto move_ms = options_.step * 3;
+  const std::int64_t deadline = now_ms_() + 20000;
+  while (true) {
+    if (stop_requested_.load() || wait(options_.step) || stop_requested_.load()) {
+      body_.stop();
+      return false;
+    }
+    const double err = wrap_angle(heading - pose_().heading);
+    if (std::fabs(degrees(err)) <= options_.aim_deg / 2 || now_ms_() > deadline) break;
+    const std::uint8_t speed =
+        std::fabs(degrees(err)) > 30 ? options_.turn_speed : options_.fine_turn_speed;
+    body_.move(err > 0 ? devices::Direction::kLeft : devices::Direction::kRight, speed, move_ms);
+  }
+  body_.stop();
+  return true;
+}
+
+std::optional<GoingPlaces::Spot> Navigator::locate(double bearing_deg, double distance_m) {
+  const Pose pose = pose_();
+  const double a = pose.heading + radians(bearing_deg);
+  const Vec2 at{pose.x + std::cos(a) * distance_m, pose.y + std::sin(a) * distance_m};
+  Spot spot;
+  // The thing's room; when the estimate falls outside every room (behind a wall, a bad
+  // distance), the robot's own room.
+  const Room* room = map_.room_at(at);
+  if (!room) room = map_.room_at(pose.position());
+  if (room) spot.room = room->name;
+  double best = 1.5;
+  auto consider = [&](const std::string& name, double d, const std::string& in_room) {
+    if (d < best && (spot.room.empty() || in_room.empty() || in_room == spot.room)) {
+      best = d;
+      spot.near = normalise_name(name);
+    }
+  };
+  for (const Furniture& f : map_.furniture) {
+    const Vec2 c{std::clamp(at.x, f.box.min.x, f.box.max.x),
+                 std::clamp(at.y, f.box.min.y, f.box.max.y)};
+    const Room* fr = map_.room_at((f.box.min + f.box.max) * 0.5);
+    consider(f.name, distance(c, at), fr ? fr->name : "");
+  }
+  for (const Place& p : map_.places) consider(p.name, distance(p.at, at) + 0.2, p.room);
+  return spot;
+}
+
+std::optional<GoingPlaces::PlaceInfo> Navigator::find_place(std::string_view name) {
+  std::optional<Target> t = map_.find(name);
+  if (!t) return std::nullopt;
+  static const char* kKinds[] = {"room", "place", "person"};
+  return PlaceInfo{t->name, kKinds[static_cast<int>(t->kind)], t->room};
+}
+
+std::vector<std::string> Navigator::rooms_to_search() {
+  std::vector<const Room*> left;
+  for (const Room& r : map_.rooms) left.push_back(&r);
+  std::vector<std::string> order;
+  Vec2 from = pose_().position();
+  if (const Room* here = map_.room_at(from)) {
+    order.push_back(here->name);
+    from = here->spot;
+    std::erase(left, here);
+  }
+  while (!left.empty()) {
+    auto next = std::min_element(left.begin(), left.end(), [&](const Room* a, const Room* b) {
+      return distance(a->spot, from) < distance(b->spot, from);
+    });
+    order.push_back((*next)->name);
+    from = (*next)->spot;
+    left.erase(next);
+  }
+  return order;
 }
 
 bool Navigator::leg_free(Vec2 from, Vec2 to) const {

@@ -59,6 +59,10 @@ class Navigator : public GoingPlaces {
   std::optional<std::string> where_am_i() override;
   double time_scale() const override { return options_.time_scale; }
   std::vector<std::string> place_names() const override;
+  bool turn(double degrees, const WaitFn& wait) override;
+  std::optional<Spot> locate(double bearing_deg, double distance_m) override;
+  std::vector<std::string> rooms_to_search() override;
+  std::optional<PlaceInfo> find_place(std::string_view name) override;
 
   const FloorMap& map() const { return map_; }
   const NavigatorOptions& options() const { return options_; }
@@ -72,6 +76,8 @@ class Navigator : public GoingPlaces {
   Follow follow(const std::vector<Vec2>& path, const WaitFn& wait, std::int64_t deadline_ms);
   std::string blocked_reason(const Target& target);
   bool leg_free(Vec2 from, Vec2 to) const;
+  // Turns in place until the heading is within aim_deg of `heading` (radians).
+  bool turn_to(double heading, const WaitFn& wait);
 
   FloorMap map_;
   devices::Body& body_;

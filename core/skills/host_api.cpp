@@ -589,7 +589,9 @@ marvin_status api_vision_look(marvin_host* host, marvin_text_out* seen_json) {
   return guarded(host, [&](SkillContext& c) {
     MARVIN_TRY(need_out(c, seen_json));
     return with_eyes(c, "camera", [&](Eyes& eyes) {
-      marvin_status s = write_text(seen_json, eyes.look_json());
+      const std::string seen = eyes.look_json();
+      record_sightings(c, seen);  // API 1.3: every look remembers who and what it saw
+      marvin_status s = write_text(seen_json, seen);
       if (s == MARVIN_ERR_TRUNCATED) c.last_error = "what the camera sees did not fit the buffer";
       return s;
     });
@@ -772,6 +774,7 @@ const marvin_robot_api* host_robot_api() {
     a.go_stop = api_go_stop;
     a.where_am_i = api_where_am_i;
     a.smarthome_devices = api_smarthome_devices;
+    add_finding_api(a);
     return a;
   }();
   return &api;

@@ -16,6 +16,8 @@
 
 #include <marvin/robot.h>
 
+#include <nlohmann/json.hpp>
+
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -29,6 +31,8 @@
 #include "devices/body.h"
 #include "navigation/going_places.h"
 #include "skills/eyes.h"
+#include "skills/guard.h"
+#include "skills/sightings.h"
 #include "skills/smart_home.h"
 #include "skills/user.h"
 
@@ -57,7 +61,18 @@ struct HostServices {
   // Smart-home devices over the home's broker (smarthome_*); null: none configured.
   // Called from skill threads: it must be thread-safe.
   SmartHome* smarthome = nullptr;
+  // Finding and guarding (API 1.3). Null: sightings_find / guard / events_list answer
+  // MARVIN_ERR_UNAVAILABLE. Thread-safe.
+  SightingLog* sightings = nullptr;
+  Guard* guard = nullptr;
+  struct LoggedEvent {
+    std::string kind, message;
+    std::int64_t time_ms = 0;
+  };
+  // The owner's event log, newest first, of a kind ("" all) since a time.
+  std::function<std::vector<LoggedEvent>(std::string_view kind, std::int64_t since_ms)> events;
 };
+
 
 // The system clock in milliseconds since the Unix epoch.
 std::int64_t system_now_ms();
@@ -105,5 +120,13 @@ const marvin_robot_api* host_robot_api();
 
 // Copies `text` into a caller's buffer following the marvin_text_out contract.
 marvin_status write_text(marvin_text_out* out, std::string_view text);
+
+// Adds the API 1.3 finding-and-guarding functions to `api` (core/skills/finding_api.cpp).
+void add_finding_api(marvin_robot_api& api);
+// Records the known faces and objects of a vision_look answer as sightings (where the map
+// puts them) and returns them as look_around's "seen" entries; `bearing_offset_deg` is the
+// robot's turn since the look began. Never throws: a failing log only loses the sighting.
+nlohmann::json record_sightings(SkillContext& c, const std::string& seen_json,
+                                double bearing_offset_deg = 0);
 
 }  // namespace marvin::skills

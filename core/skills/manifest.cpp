@@ -201,7 +201,8 @@ const char* to_string(SlotKind kind) {
 const std::vector<std::string>& known_permissions() {
   static const std::vector<std::string> all = {"speech",   "light",    "motion",  "sensors",
                                                "schedule", "contacts", "storage", "vision",
-                                               "phone",    "smarthome", "camera",  "faces"};
+                                               "phone",    "smarthome", "camera",  "faces",
+                                               "events"};
   return all;
 }
 

@@ -1,6 +1,7 @@
 #include "marvin/testing/mock_robot.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <limits>
 
@@ -21,6 +22,20 @@ MockRobot::Impl::Impl(std::string id, std::vector<std::string> permissions)
   services.going_places = this;
   home.actions = &actions;
   services.smarthome = &home;
+  services.sightings = &sightings;
+  skills::GuardOptions guard_options;
+  guard_options.watch = false;  // the mock's guard keeps its state only
+  guard = std::make_unique<skills::Guard>(eyes, nullptr, [this] { return now_ms; },
+                                          [](const std::string&, const std::string&) {},
+                                          guard_options);
+  services.guard = guard.get();
+  services.events = [this](std::string_view kind, std::int64_t since) {
+    std::vector<skills::HostServices::LoggedEvent> out;
+    for (auto it = events.rbegin(); it != events.rend(); ++it) {
+      if (it->time_ms >= since && (kind.empty() || it->kind == kind)) out.push_back(*it);
+    }
+    return out;
+  };
   context = std::make_unique<skills::SkillContext>(skill_id, std::move(permissions), services);
 }
 
@@ -78,6 +93,13 @@ navigation::GoResult MockRobot::Impl::go_to(std::string_view target,
   for (const auto& [name, in_room] : places) {
     if (place_key(name) == place_key(target)) {
       room = in_room;
+      home.room = in_room;
+      heading = 0;
+      if (!room_views.empty()) {
+        auto view = room_views.find(in_room);
+        eyes.set_view(view != room_views.end() ? view->second
+                                               : R"({"faces": [], "objects": []})");
+      }
       return r;
     }
   }
@@ -88,6 +110,42 @@ navigation::GoResult MockRobot::Impl::go_to(std::string_view target,
 std::optional<std::string> MockRobot::Impl::where_am_i() {
   if (room.empty()) return std::nullopt;
   return room;
+}
+
+bool MockRobot::Impl::turn(double degrees, const navigation::WaitFn& wait) {
+  actions.push_back("turn " + std::to_string(static_cast<int>(std::lround(degrees))));
+  // A room's view is what the camera sees facing the way the robot came in; turned away
+  // from it, it sees nothing.
+  heading = std::fmod(std::fmod(heading + degrees, 360.0) + 360.0, 360.0);
+  if (!room_views.empty()) {
+    auto view = room_views.find(room);
+    const bool facing = heading < 1 || heading > 359;
+    eyes.set_view(facing && view != room_views.end() ? view->second
+                                                     : R"({"faces": [], "objects": []})");
+  }
+  return !wait(std::chrono::milliseconds(0));
+}
+std::optional<navigation::GoingPlaces::Spot> MockRobot::Impl::locate(double, double) {
+  return Spot{room, ""};
+}
+std::vector<std::string> MockRobot::Impl::rooms_to_search() {
+  std::vector<std::string> order;
+  if (!room.empty()) order.push_back(room);
+  for (const auto& [name, in_room] : places) {
+    if (std::find(order.begin(), order.end(), in_room) == order.end()) order.push_back(in_room);
+  }
+  return order;
+}
+std::optional<navigation::GoingPlaces::PlaceInfo> MockRobot::Impl::find_place(
+    std::string_view name) {
+  for (const auto& [n, in_room] : places) {
+    if (place_key(n) != place_key(name)) continue;
+    const char* kind = std::isupper(static_cast<unsigned char>(n[0])) ? "person"
+                       : place_key(n) == place_key(in_room)            ? "room"
+                                                                       : "place";
+    return PlaceInfo{n, kind, in_room};
+  }
+  return std::nullopt;
 }
 
 void MockRobot::Impl::say(std::string_view text) { said.emplace_back(text); }
@@ -210,6 +268,15 @@ void MockRobot::set_camera_view(const std::string& seen_json) {
   impl_->eyes.set_view(seen_json);
   impl_->services.eyes = &impl_->eyes;
 }
+void MockRobot::set_room_view(const std::string& room, const std::string& seen_json) {
+  impl_->room_views[room] = seen_json;
+  impl_->services.eyes = &impl_->eyes;
+  if (room == impl_->room) impl_->eyes.set_view(seen_json);
+}
+void MockRobot::add_event(const std::string& kind, const std::string& message) {
+  impl_->events.push_back({kind, message, impl_->now_ms});
+}
+bool MockRobot::guarding() const { return impl_->guard->state().on; }
 void MockRobot::set_camera_failure(std::string message) {
   impl_->eyes.set_failure(std::move(message));
   impl_->services.eyes = &impl_->eyes;

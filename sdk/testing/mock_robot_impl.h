@@ -4,6 +4,7 @@
 
 #include <deque>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,6 +42,10 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   // navigation::GoingPlaces: scripted (add_place, block_place, set_room)
   navigation::GoResult go_to(std::string_view target, const navigation::WaitFn& wait) override;
   std::optional<std::string> where_am_i() override;
+  bool turn(double degrees, const navigation::WaitFn& wait) override;
+  std::optional<Spot> locate(double bearing_deg, double distance_m) override;
+  std::vector<std::string> rooms_to_search() override;
+  std::optional<PlaceInfo> find_place(std::string_view name) override;
 
   // skills::User
   void say(std::string_view text) override;
@@ -60,6 +65,11 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   std::vector<std::pair<std::string, std::string>> blocked;  // name, reason
   std::string room = "hall";
   FakeHome home;
+  std::map<std::string, std::string> room_views;  // room -> vision_look JSON
+  double heading = 0;  // degrees turned since arriving in the room
+  skills::InMemorySightingLog sightings{[this] { return now_ms; }};
+  std::unique_ptr<skills::Guard> guard;
+  std::vector<skills::HostServices::LoggedEvent> events;
 };
 
 }  // namespace marvin::testing

@@ -34,8 +34,22 @@ class NavigationSkill : public marvin::Skill {
   }
 
  private:
+  // How to say a place: "you", "Anna" (a person: as the map spells the name, no "the"),
+  // "the kitchen". Hosts before API 1.3 cannot tell people apart: "the" then.
+  std::string shown_name(const std::string& place) {
+    if (place == "me") return "you";
+    try {
+      if (auto info = robot().place_find(place)) {
+        if (info->value("kind", "") == "person") return info->value("name", place);
+      }
+    } catch (const marvin::Error&) {
+      // An older host (UNAVAILABLE) or no map: fall back to the plain name.
+    }
+    return "the " + place;
+  }
+
   void go(const std::string& place, const std::string& arrived) {
-    const std::string shown = place == "me" ? "you" : "the " + place;
+    const std::string shown = shown_name(place);
     try {
       robot().say("On my way to " + shown + ".");
       robot().go_to(place);

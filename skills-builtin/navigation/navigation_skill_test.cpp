@@ -59,5 +59,14 @@ TEST_CASE("the Robot API checks the permission before going anywhere") {
   CHECK(robot.actions().empty());
   marvin_text_out out{nullptr, 0, 0};
   CHECK(robot.api()->where_am_i(robot.host(), &out) == MARVIN_ERR_PERMISSION);
-  CHECK(robot.api()->minor == 2);
+  CHECK(robot.api()->minor >= 2);
+}
+
+TEST_CASE("a person is named as the map spells them, without \"the\" (API 1.3 place_find)") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  h.robot().add_place("Anna", "living room");
+  const auto said = h.say("go to anna");
+  REQUIRE(said.size() == 2);
+  CHECK(said[0] == "On my way to Anna.");
+  CHECK(said[1] == "I'm at Anna, in the living room.");
 }

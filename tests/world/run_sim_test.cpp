@@ -94,3 +94,24 @@ TEST_CASE("marvin world render: a PNG of the floor plan with a path; unknown pla
   CHECK(unknown.errors().find("--to: \"the garage\" is not a room, place or person of") !=
         std::string::npos);
 }
+
+TEST_CASE("run --sim: after \"go to Anna\" the robot faces her, so \"who is this?\" sees her") {
+  marvin::test_support::TempDir dir;
+  fs::create_directories(dir.path() / "skills");
+  ChildProcess marvin({MARVIN_EXE, "run", "--sim", "--data-dir", (dir.path() / "data").string(),
+                       "--skills-dir", (dir.path() / "skills").string(), "--speed", "20"});
+  marvin.wait_for_line("Marvin: Hello, I'm Marvin.");
+  marvin.send_line("go to Anna");
+  marvin.wait_for_line("Marvin: On my way to Anna.");
+  marvin.wait_for_line("Marvin: I'm at Anna, in the living room.");
+  marvin.send_line("who is this");
+  marvin.wait_for_line("Marvin: That's someone I don't know.");
+  marvin.send_line("this is Anna");
+  marvin.wait_for_line("Marvin: Shall I remember this face as Anna?");
+  marvin.send_line("yes");
+  marvin.wait_for_line("Marvin: Nice to meet you, Anna. I'll remember your face.");
+  marvin.send_line("who is this");
+  marvin.wait_for_line("Marvin: That's Anna.");
+  CHECK(exit_code(marvin.finish()) == 0);
+  CHECK(marvin.output().find("the anna") == std::string::npos);
+}

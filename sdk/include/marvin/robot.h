@@ -19,6 +19,7 @@
  *   "vision", "phone", "smarthome"    the capabilities of later releases
 
  *   "smarthome" smarthome_set, smarthome_devices (API 1.2)
+ *   "events"    events_list (API 1.3): the owner's event log (who came while out)
  *   "vision", "phone"                 the capabilities of later releases
  * Calls without the permission fail with MARVIN_ERR_PERMISSION and change nothing.
  *
@@ -64,7 +65,7 @@ typedef enum marvin_log_level {
 } marvin_log_level;
 
 #define MARVIN_ROBOT_API_MAJOR 1
-#define MARVIN_ROBOT_API_MINOR 2
+#define MARVIN_ROBOT_API_MINOR 3
 
 typedef struct marvin_robot_api {
   uint32_t struct_size; /* sizeof(marvin_robot_api) as the host compiled it */
@@ -225,6 +226,49 @@ typedef struct marvin_robot_api {
    * "connected": whether the home's broker is reachable now; "room": where the robot is;
    * "on"/"brightness" are null until the device reported them. */
   marvin_status (*smarthome_devices)(marvin_host* host, marvin_text_out* devices_json);
+
+  /* --- since API 1.3: finding and guarding --------------------------------------------
+   * Check struct_size (or minor) before calling these on an older host. Every known
+   * person and object the camera sees (through vision_look or look_around) is recorded
+   * as a sighting: what, the room, the furniture it is near, when. */
+  /* Turns in place through a full circle in `stops` stops (4 to 12; 0 means 8), looks at
+   * each stop and writes what was seen, as JSON:
+   *   {"stops": 8, "seen": [{"kind": "person" | "object", "name": "Anna" | "" (a face
+   *     nobody enrolled) | "keys", "bearing_deg": 40 (from the heading when it started,
+   *     counter-clockwise), "distance_m": 1.8 (an estimate), "room": "kitchen",
+   *     "near": "kitchen table" | ""}]}
+   * Permissions "camera" and "motion". MARVIN_ERR_CANCELLED when the user said "stop";
+   * MARVIN_ERR_UNAVAILABLE without a camera or a map. */
+  marvin_status (*look_around)(marvin_host* host, uint32_t stops, marvin_text_out* seen_json);
+  /* Where `what` ("Anna", "keys"; "" for everything) was last seen, newest first, only
+   * sightings at or after `since_unix_ms` (0: all):
+   *   [{"what": "keys", "kind": "object", "room": "kitchen", "near": "kitchen table",
+   *     "seen_unix_ms": 1764100000000}]
+   * Permission "camera". */
+  marvin_status (*sightings_find)(marvin_host* host, const char* what, int64_t since_unix_ms,
+                                  marvin_text_out* sightings_json);
+  /* The rooms in the order a search visits them from where the robot is, as a JSON list
+   * of names (the room it is in first). Permission "sensors". */
+  marvin_status (*rooms_to_search)(marvin_host* host, marvin_text_out* rooms_json);
+  /* What `name` is on the robot's map: {"name": "Anna", "kind": "room" | "place" |
+   * "person", "room": "living room"}. MARVIN_ERR_NOT_FOUND if the map has no such name.
+   * Permission "sensors". */
+  marvin_status (*place_find)(marvin_host* host, const char* name, marvin_text_out* place_json);
+  /* Turns in place by `degrees` (-360 to 360, counter-clockwise positive) and returns when
+   * done. Permission "motion". MARVIN_ERR_CANCELLED on "stop". */
+  marvin_status (*turn)(marvin_host* host, int32_t degrees);
+  /* Guard mode. `mode` 1: on (the robot watches and alerts on a face nobody enrolled seen
+   * over several frames: it says so, saves a photo in the data directory, logs an
+   * "intruder" event and publishes it on the message bus). 0: off, only while a known
+   * face is in view now: MARVIN_ERR_PERMISSION otherwise ("I can only stop guarding for
+   * someone I know"). -1: only report. Writes {"on": true, "since_unix_ms": ...,
+   * "alerts": 1, "by": "Anna" (who turned it off)}. Permission "camera". */
+  marvin_status (*guard)(marvin_host* host, int32_t mode, marvin_text_out* state_json);
+  /* Events from the owner's event log, newest first, of `kind` ("intruder"; "" for all)
+   * at or after `since_unix_ms`: [{"kind", "message", "time_unix_ms"}]. Permission
+   * "events". */
+  marvin_status (*events_list)(marvin_host* host, const char* kind, int64_t since_unix_ms,
+                               marvin_text_out* events_json);
 } marvin_robot_api;
 
 #ifdef __cplusplus

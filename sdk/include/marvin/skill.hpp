@@ -238,6 +238,58 @@ class Robot {
     }
   }
 
+  // --- finding and guarding (API 1.3; see marvin/robot.h) ---
+  // Turns a full circle in `stops` stops, looking at each: {"stops", "seen": [...]}.
+  nlohmann::json look_around(std::uint32_t stops = 0) {
+    auto call = fn(&marvin_robot_api::look_around, "look_around");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, stops, out); }));
+  }
+  // Where `what` ("" for everything) was seen, newest first: [{"what", "kind", "room",
+  // "near", "seen_unix_ms"}].
+  nlohmann::json sightings_find(std::string_view what, std::int64_t since_unix_ms = 0) {
+    std::string w = str(what);
+    auto call = fn(&marvin_robot_api::sightings_find, "sightings_find");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, w.c_str(), since_unix_ms, out); }));
+  }
+  // The rooms in the order a search visits them (the robot's room first).
+  std::vector<std::string> rooms_to_search() {
+    auto call = fn(&marvin_robot_api::rooms_to_search, "rooms_to_search");
+    return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }))
+        .get<std::vector<std::string>>();
+  }
+  // {"name", "kind": "room" | "place" | "person", "room"}, or nullopt for a name the map
+  // does not know.
+  std::optional<nlohmann::json> place_find(std::string_view name) {
+    std::string n = str(name);
+    auto call = fn(&marvin_robot_api::place_find, "place_find");
+    try {
+      return nlohmann::json::parse(
+          text([&](marvin_text_out* out) { return call(host_, n.c_str(), out); }));
+    } catch (const Error& e) {
+      if (e.status() == MARVIN_ERR_NOT_FOUND) return std::nullopt;
+      throw;
+    }
+  }
+  // Turns in place, counter-clockwise positive.
+  void turn(std::int32_t degrees) { check(fn(&marvin_robot_api::turn, "turn")(host_, degrees)); }
+  // Guard mode: 1 on, 0 off (throws Error(PERMISSION) unless a known face is in view),
+  // -1 report. Returns {"on", "since_unix_ms", "alerts", "by"}.
+  nlohmann::json guard(std::int32_t mode) {
+    auto call = fn(&marvin_robot_api::guard, "guard");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, mode, out); }));
+  }
+  // Events of `kind` ("" for all) since then, newest first: [{"kind", "message",
+  // "time_unix_ms"}].
+  nlohmann::json events_list(std::string_view kind, std::int64_t since_unix_ms = 0) {
+    std::string k = str(kind);
+    auto call = fn(&marvin_robot_api::events_list, "events_list");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, k.c_str(), since_unix_ms, out); }));
+  }
+
   // This skill's own key-value storage. storage_get returns nullopt for a missing key.
   std::optional<std::string> storage_get(std::string_view key) {
     std::string k = str(key);

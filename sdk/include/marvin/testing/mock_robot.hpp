@@ -81,6 +81,19 @@ class MockRobot {
   // `message` as the error sentence, and nothing is enrolled or forgotten.
   void set_camera_failure(std::string message);
 
+  // Finding and guarding (API 1.3). What the camera sees while the robot is in `room`
+  // (after go_to took it there; the first view also turns the camera on, as
+  // set_camera_view does), facing the way it came in: look_around sees it at its first
+  // stop only; turn() records
+  // "turn <degrees>"; rooms_to_search() is the robot's room, then the other rooms of
+  // add_place() in the order added; place_find() knows add_place()'s names (a name
+  // starting with a capital letter is a person). Sightings are kept in memory.
+  void set_room_view(const std::string& room, const std::string& seen_json);
+  // An event in the owner's event log (events_list), stamped now.
+  void add_event(const std::string& kind, const std::string& message);
+  // Guard mode as the skill left it (guard()): on or off. The mock's guard never alerts.
+  bool guarding() const;
+
   // Smart home (smarthome_set, smarthome_devices). A device as in smarthome_devices()'s
   // "devices" ({"id", "name", "room", "type", "dimmable", ...}; "on" false and
   // "brightness" 100 when left out); it answers every command unless set_device_answers()

@@ -1,0 +1,113 @@
+#include "skills/guard.h"
+
+#include <nlohmann/json.hpp>
+
+#include "common/log.h"
+
+namespace marvin::skills {
+
+Guard::Guard(Eyes& eyes, navigation::GoingPlaces* places, std::function<std::int64_t()> now_ms,
+             std::function<void(const std::string&, const std::string&)> alert,
+             GuardOptions options)
+    : eyes_(eyes),
+      places_(places),
+      now_ms_(std::move(now_ms)),
+      alert_(std::move(alert)),
+      options_(options) {}
+
+Guard::~Guard() {
+  {
+    std::lock_guard lock(mutex_);
+    quit_ = true;
+    state_.on = false;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+GuardState Guard::on() {
+  std::unique_lock lock(mutex_);
+  if (state_.on) return state_;
+  if (thread_.joinable()) {  // a previous watch is still ending
+    lock.unlock();
+    thread_.join();
+    lock.lock();
+  }
+  state_ = GuardState{true, now_ms_(), 0, ""};
+  if (options_.watch) thread_ = std::thread([this] { run(); });
+  return state_;
+}
+
+GuardState Guard::off(const std::string& by) {
+  std::thread ending;
+  GuardState s;
+  {
+    std::lock_guard lock(mutex_);
+    state_.on = false;
+    state_.by = by;
+    s = state_;
+    ending = std::move(thread_);
+  }
+  wake_.notify_all();
+  if (ending.joinable()) ending.join();
+  return s;
+}
+
+GuardState Guard::state() {
+  std::lock_guard lock(mutex_);
+  return state_;
+}
+
+bool Guard::wait(std::chrono::milliseconds robot_ms) {
+  const double scale = options_.time_scale > 0 ? options_.time_scale : 1.0;
+  const auto wall = std::chrono::microseconds(
+      static_cast<std::int64_t>(static_cast<double>(robot_ms.count()) * 1000.0 / scale));
+  std::unique_lock lock(mutex_);
+  return wake_.wait_for(lock, wall, [this] { return !state_.on || quit_; });
+}
+
+void Guard::run() {
+  int streak = 0, looks = 0;
+  bool alerted_here = false;  // one alert per stop
+  while (!wait(options_.look)) {
+    std::string seen;
+    try {
+      seen = eyes_.look_json();
+    } catch (const std::exception& e) {
+      log(LogLevel::kWarning, "guard", e.what());  // a camera failure: try again later
+      streak = 0;
+      continue;
+    }
+    int unknown = 0;
+    for (const auto& f : nlohmann::json::parse(seen).value("faces", nlohmann::json::array())) {
+      const auto box = f.value("box", nlohmann::json::array());
+      const double h = box.size() == 4 ? box[3].get<double>() : 0;
+      if (f.value("name", "").empty() && h >= options_.min_face_px) ++unknown;
+    }
+    streak = unknown > 0 ? streak + 1 : 0;
+    if (streak >= options_.frames_needed && !alerted_here) {
+      alerted_here = true;
+      std::string photo;
+      try {
+        photo = eyes_.capture_photo("guard");
+      } catch (const std::exception& e) {
+        log(LogLevel::kWarning, "guard", std::string("no photo of the intruder: ") + e.what());
+      }
+      {
+        std::lock_guard lock(mutex_);
+        if (!state_.on) break;
+        ++state_.alerts;
+      }
+      alert_(photo, unknown == 1 ? "someone I don't know" : std::to_string(unknown) +
+                                                                " people I don't know");
+    }
+    if (++looks >= options_.looks_per_stop && options_.looks_per_stop > 0 && places_ &&
+        options_.turn_deg != 0 && streak == 0) {
+      looks = 0;
+      alerted_here = false;
+      places_->turn(options_.turn_deg, [this](std::chrono::milliseconds ms) { return wait(ms); });
+    }
+  }
+}
+
+}  // namespace marvin::skills

@@ -1,0 +1,115 @@
+// The finding skill through the SkillHarness, with the MockRobot's rooms and per-room views.
+#include <doctest/doctest.h>
+
+#include <marvin/testing/skill_harness.hpp>
+
+using Lines = std::vector<std::string>;
+
+namespace {
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += s + " | ";
+  return out;
+}
+
+const char* kAnna = R"({"faces":[{"name":"Anna","box":[300,200,60,60]}],"objects":[]})";
+const char* kStranger = R"({"faces":[{"name":"","box":[300,200,60,60]}],"objects":[]})";
+const char* kKeys = R"({"faces":[],"objects":[{"label":"keys","box":[300,300,40,30]}]})";
+
+void home(marvin::testing::SkillHarness& h) {
+  for (const char* room : {"hall", "kitchen", "bedroom", "living room"}) h.robot().add_place(room, room);
+  h.robot().add_place("Anna", "living room");
+}
+
+}  // namespace
+
+TEST_CASE("find Anna: searches the rooms, the map's room for her first, and reports the room") {
+  marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
+  home(h);
+  h.robot().set_room_view("kitchen", kAnna);  // she is not where the map last saw her
+  CHECK(h.say("find anna") ==
+        Lines{"I'll look for Anna.", "Anna is in the kitchen."});
+  // Now from memory, without moving.
+  h.robot().clear();
+  CHECK(h.say("where is anna", {"no"}) ==
+        Lines{"I saw Anna in the kitchen, just now.", "Shall I look again?"});
+  const std::string actions = joined(h.robot().actions());
+  INFO(actions);
+  CHECK(actions.find("go_to") == std::string::npos);
+  CHECK(actions.find("turn") == std::string::npos);
+}
+
+TEST_CASE("is anyone in the bedroom: a stranger; an unknown room is named") {
+  marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
+  home(h);
+  h.robot().set_room_view("bedroom", kStranger);
+  CHECK(h.say("is anyone in the bedroom") == Lines{"Yes: someone I don't know is in the bedroom."});
+  CHECK(h.say("is anyone in the kitchen") == Lines{"No, I don't see anyone in the kitchen."});
+  CHECK(h.say("is anyone in the garage") == Lines{"I don't know a room called the garage."});
+}
+
+TEST_CASE("tell Anna dinner is ready: goes to her and says it; nobody called Bob") {
+  marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
+  home(h);
+  h.robot().set_room_view("living room", kAnna);
+  CHECK(h.say("tell anna dinner is ready") ==
+        Lines{"I'll tell Anna.", "Anna, dinner is ready."});
+  CHECK(h.robot().room() == "living room");
+  CHECK(h.say("tell bob dinner is ready") == Lines{"I don't know anyone called Bob."});
+  CHECK(h.say("find bob") == Lines{"I don't know who or what bob is."});
+}
+
+TEST_CASE("where are my keys: search, report, lead the way; never seen and never taught") {
+  marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
+  home(h);
+  h.robot().set_room_view("bedroom", kKeys);
+  // Seen while looking for people in the bedroom: every look records what it saw.
+  CHECK(h.say("is anyone in the bedroom") == Lines{"No, I don't see anyone in the bedroom."});
+  const Lines keys = h.say("where are my keys", {"no"});
+  INFO(joined(keys));
+  CHECK(keys == Lines{"I saw your keys in the bedroom, just now.", "Shall I look again?"});
+  h.robot().set_room("hall");
+  CHECK(h.say("find my keys", {"yes"}) ==
+        Lines{"I'll look for your keys.", "Your keys are in the bedroom.",
+              "Shall I show you the way?", "Here we are: the bedroom."});
+  CHECK(h.say("have you seen my keys", {"yes", "no"}) ==
+        Lines{"I saw your keys in the bedroom, just now.", "Shall I look again?",
+              "I'll look for your keys.", "Your keys are in the bedroom.",
+              "Shall I show you the way?"});
+  CHECK(h.say("where is my umbrella").back().rfind("I don't know what your umbrella look like", 0) == 0);
+}
+
+TEST_CASE("a blocked room and a camera failure mid-search: clear speech, the rooms named") {
+  marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
+  home(h);
+  h.robot().block_place("kitchen", "the kitchen door is blocked");
+  h.robot().set_room_view("hall", R"({"faces":[],"objects":[]})");
+  const Lines said = h.say("find anna");
+  REQUIRE(said.size() == 2);
+  CHECK(said[1].find("I couldn't find Anna. I looked in the living room, the hall") == 0);
+  CHECK(said[1].find("I couldn't get into the kitchen.") != std::string::npos);
+  h.robot().set_camera_failure("the simulated camera: the photo anna.jpg is missing");
+  const Lines broken = h.say("find anna");
+  CHECK(broken.back() == "Sorry, my camera stopped working while I was looking for Anna. "
+                         "I had looked in the living room.");
+}
+
+TEST_CASE("guard mode: on by voice; off only for a known face; who came reads the events") {
+  marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
+  h.robot().set_camera_view(kStranger);
+  const Lines out = h.say("i'm going out");
+  INFO(joined(out));
+  CHECK(out.back().rfind("OK, I'm guarding the house.", 0) == 0);
+  CHECK(h.robot().guarding());
+  h.robot().add_event("intruder", "Intruder alert: I see someone I don't know in the hall. Photo: /x.jpg");
+  CHECK(h.say("i'm home") ==
+        Lines{"I can only stop guarding for someone I know. Please let me see your face."});
+  CHECK(h.robot().guarding());
+  h.robot().set_camera_view(kAnna);
+  CHECK(h.say("i'm home") == Lines{"Welcome back, Anna. I stopped guarding."});
+  CHECK_FALSE(h.robot().guarding());
+  CHECK(h.say("who came while i was out") ==
+        Lines{"One visitor: someone I don't know in the hall, just now. I saved a photo of "
+              "each in my data folder."});
+}
