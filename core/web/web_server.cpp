@@ -8,10 +8,12 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl.hpp>
+#include <array>
 #include <atomic>
 #include <deque>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -134,6 +136,7 @@ struct WebServer::Impl {
   std::thread thread;
   std::uint16_t port = 0;
   bool running = false;
+  bool stopping = false;  // on the server's thread: no new accepts or polls
   Sessions sessions;
   LoginLimiter limiter;
   std::int64_t last_event_id = 0;
@@ -183,7 +186,9 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
   void read_header() {
     parser_.emplace();
     parser_->header_limit(16 * 1024);
-    parser_->body_limit(std::max(kRequestLimit, server_.options.upload_limit));
+    // No limit while reading the head (Beast would refuse a large Content-Length without a
+    // word); on_header() answers 413 and then sets the limit for the body.
+    parser_->body_limit(std::numeric_limits<std::uint64_t>::max());
     beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(60));
     http::async_read_header(stream_, buffer_, *parser_,
                             [self = shared_from_this()](beast::error_code ec, std::size_t) {
@@ -213,9 +218,28 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
 
   void refuse_too_large(std::optional<std::uint64_t> length, std::size_t limit) {
     const std::string size = length ? std::to_string(*length) + " bytes" : "more than that";
-    send(error_response(413, "request body too large: " + size + ", at most " +
-                                 std::to_string(limit) + " bytes here"),
-         true);
+    Response res = error_response(413, "request body too large: " + size + ", at most " +
+                                           std::to_string(limit) + " bytes here");
+    res.keep_alive(false);
+    auto held = std::make_shared<Response>(std::move(res));
+    beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(10));
+    http::async_write(stream_, *held, [self = shared_from_this(), held](beast::error_code ec, std::size_t) {
+      if (ec && ec != http::error::end_of_stream) return self->close();  // "close" is ours
+      // Closing with the client's body still arriving would reset the connection and could
+      // lose the answer: stop sending, then read and drop what comes (up to 8 MiB or 5 s).
+      beast::error_code ignored;
+      beast::get_lowest_layer(self->stream_).socket().shutdown(tcp::socket::shutdown_send, ignored);
+      beast::get_lowest_layer(self->stream_).expires_after(std::chrono::seconds(5));
+      self->drain(8 * 1024 * 1024);
+    });
+  }
+
+  void drain(std::size_t budget) {
+    beast::get_lowest_layer(stream_).async_read_some(
+        asio::buffer(drain_buffer_), [self = shared_from_this(), budget](beast::error_code ec, std::size_t n) {
+          if (ec || n >= budget) return self->close();
+          self->drain(budget - n);
+        });
   }
 
   Response base_response(unsigned status) const {
@@ -422,11 +446,12 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
   std::deque<std::string> queue_;
   bool writing_ = false;
   char discard_[64];
+  std::array<char, 16 * 1024> drain_buffer_;
 };
 
 void WebServer::Impl::accept() {
   acceptor->async_accept([this](beast::error_code ec, tcp::socket socket) {
-    if (ec) return;  // closed by stop()
+    if (ec || stopping) return;  // closed by stop()
     auto connection = std::make_shared<WebConnection>(*this, std::move(socket));
     for (auto it = connections.begin(); it != connections.end();)
       it = it->expired() ? connections.erase(it) : std::next(it);
@@ -449,6 +474,7 @@ void WebServer::Impl::broadcast(const std::string& kind, const json& update) {
 }
 
 void WebServer::Impl::poll_events() {
+  if (stopping) return;
   try {
     std::vector<data::Event> fresh;
     for (const data::Event& e : store.recent_events(50)) {
@@ -540,6 +566,9 @@ void WebServer::stop() {
   if (!s.running) return;
   if (s.feed) s.feed->set_listener(nullptr);
   asio::post(s.ioc, [&s] {
+    // A timer or accept that completed just before is already queued: the flag stops it
+    // from starting the next round.
+    s.stopping = true;
     beast::error_code ec;
     s.acceptor->close(ec);
     s.poll_timer->cancel();
