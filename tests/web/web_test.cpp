@@ -14,6 +14,7 @@
 #include "support/files.h"
 #include "web/auth.h"
 #include "web/live.h"
+#include "web/tls.h"
 #include "web/web_server.h"
 #include "web_client.h"
 
@@ -50,7 +51,8 @@ struct Site {
   std::atomic<std::int64_t> advanced_s{0};
   std::unique_ptr<WebServer> server;
 
-  explicit Site(std::size_t upload_limit = 1024 * 1024) {
+  explicit Site(std::size_t upload_limit = 1024 * 1024,
+                const std::function<void(WebOptions&)>& adjust = {}) {
     set_password(password_file(tmp / "data/web"), kPassword, HashCost::kMinimum);
     // The skills folder trusts `key`, as after `marvin skill repo-add`.
     test_support::write_text(tmp / "skills/.store/repositories.json",
@@ -69,6 +71,7 @@ struct Site {
     o.session_ttl = std::chrono::minutes(30);
     o.event_poll = std::chrono::milliseconds(20);
     o.now = [this] { return Clock::time_point(std::chrono::seconds(1000000 + advanced_s.load())); };
+    if (adjust) adjust(o);
     server = std::make_unique<WebServer>(o, store, store, &feed);
     server->start();
   }
@@ -402,6 +405,39 @@ TEST_CASE("web: an open page gets the status, conversation turns and new events 
   CHECK(today["live"]["light"] == "executing");
   CHECK(today["next_reminders"].size() == 1);
   CHECK(today["recent_events"][0]["message"] == "someone in the hall");
+}
+
+TEST_CASE("web: the user's own certificate is used, and a missing key file is named") {
+  TempDir mine;
+  make_self_signed_certificate(mine / "site.pem", mine / "site.key", {"127.0.0.1"});
+  Site site(1024 * 1024, [&](WebOptions& o) {
+    o.cert_file = mine / "site.pem";
+    o.key_file = mine / "site.key";
+  });
+  CHECK(!fs::exists(site.tmp / "data/web/cert.pem"));  // none made
+  Browser b(site.server->port(), mine / "site.pem");  // trusts only the user's certificate
+  CHECK(b.login(kPassword).status == 200);
+
+  WebOptions o;
+  o.listen = "127.0.0.1:0";
+  o.state_dir = site.tmp / "other";
+  o.cert_file = mine / "site.pem";
+  o.key_file = mine / "missing.key";
+  WebServer broken(o, site.store, site.store, nullptr);
+  const std::string missing_key = (mine / "missing.key").string();
+  CHECK_THROWS_WITH_AS(broken.start(), doctest::Contains(missing_key.c_str()), std::runtime_error);
+  o.key_file.clear();
+  WebServer half(o, site.store, site.store, nullptr);
+  CHECK_THROWS_WITH_AS(half.start(),
+                       "web certificate: give both the certificate and its key, or neither",
+                       std::runtime_error);
+  o.cert_file.clear();
+  o.listen = "127.0.0.1";
+  WebServer no_port(o, site.store, site.store, nullptr);
+  CHECK_THROWS_WITH_AS(no_port.start(),
+                       "web listen address '127.0.0.1' is not ADDR:PORT (e.g. 127.0.0.1:8443 or "
+                       "0.0.0.0:8443)",
+                       std::runtime_error);
 }
 
 }  // namespace
