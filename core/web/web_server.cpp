@@ -307,9 +307,13 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
     const std::string origin(req[http::field::origin]);
     if (host.empty()) return send(error_response(400, "the request has no Host header"), true);
     const std::string own_origin = "https://" + host;
-    if ((!origin.empty() && origin != own_origin) || req["Sec-Fetch-Site"] == "cross-site")
+    // A link from another site opening the page is fine (a top-level GET of a page);
+    // anything else the browser marks cross-site is not.
+    const bool page_link = method == "GET" && path.rfind("/api/", 0) != 0;
+    if ((!origin.empty() && origin != own_origin) ||
+        (req["Sec-Fetch-Site"] == "cross-site" && !page_link))
       return send(error_response(403, "request from another origin (" +
-                                          (origin.empty() ? std::string("cross-site") : origin) +
+                                          (origin.empty() || origin == own_origin ? std::string("cross-site") : origin) +
                                           ") refused; this page is " + own_origin),
                   !keep);
 

@@ -279,8 +279,17 @@ TEST_CASE("web: a request from another origin is refused and changes nothing") {
   const std::string expected = "request from another origin (https://evil.example) refused; this "
                                "page is https://127.0.0.1:" + std::to_string(site.server->port());
   CHECK(r.error() == expected);
-  Reply fetch_site = b.send("DELETE", "/api/contacts/1", "", {{"Sec-Fetch-Site", "cross-site"}});
+  REQUIRE(b.send("POST", "/api/contacts", json{{"name", "Anna"}}.dump()).status == 201);
+  const auto contact = std::to_string(site.store.list_contacts()[0].id);
+  Reply fetch_site = b.send("DELETE", "/api/contacts/" + contact, "", {{"Sec-Fetch-Site", "cross-site"}});
   CHECK(fetch_site.status == 403);
+  CHECK(fetch_site.error() == "request from another origin (cross-site) refused; this page is "
+                              "https://127.0.0.1:" + std::to_string(site.server->port()));
+  CHECK(site.store.list_contacts().size() == 1);
+  Reply read = b.send("GET", "/api/contacts", "", {{"Sec-Fetch-Site", "cross-site"}});
+  CHECK(read.status == 403);  // another site's script may not read the data either
+  // A link on another site may open the page itself.
+  CHECK(b.send("GET", "/", "", {{"Sec-Fetch-Site", "cross-site"}}).status == 200);
   Reply login = b.send("POST", "/api/login", json{{"password", kPassword}}.dump(), {{"Origin", "http://127.0.0.1"}});
   CHECK(login.status == 403);
   CHECK(login.set_cookie.empty());
@@ -405,6 +414,20 @@ TEST_CASE("web: an open page gets the status, conversation turns and new events 
   CHECK(today["live"]["light"] == "executing");
   CHECK(today["next_reminders"].size() == 1);
   CHECK(today["recent_events"][0]["message"] == "someone in the hall");
+}
+
+TEST_CASE("web: a password shorter than 8 characters is refused and nothing is stored") {
+  TempDir tmp;
+  const fs::path file = password_file(tmp / "web");
+  CHECK_THROWS_WITH_AS(set_password(file, "short", HashCost::kMinimum),
+                       "the password must have at least 8 characters (it has 5)", std::runtime_error);
+  CHECK(!fs::exists(file));
+  CHECK(!check_password(file, "short"));
+  set_password(file, "long enough", HashCost::kMinimum);
+  CHECK_THROWS_AS(set_password(file, "short", HashCost::kMinimum), std::runtime_error);
+  CHECK(check_password(file, "long enough"));  // the old one still holds
+  CHECK(test_support::read_text(file).find("long enough") == std::string::npos);  // only a hash
+  CHECK(test_support::read_text(file).rfind("$argon2id$", 0) == 0);
 }
 
 TEST_CASE("web: the user's own certificate is used, and a missing key file is named") {
