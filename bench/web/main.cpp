@@ -20,8 +20,8 @@
 #include "support/files.h"
 #include "web/auth.h"
 #include "web/live.h"
-#include "web/web_server.h"
 #include "web/web_client.h"
+#include "web/web_server.h"
 
 namespace {
 
@@ -52,7 +52,8 @@ int main() {
   so.path = tmp / "data/marvin.db";
   data::SqliteStore store(so);
   web::LiveFeed feed;
-  web::set_password(web::password_file(tmp / "data/web"), "bench password", web::HashCost::kMinimum);
+  web::set_password(web::password_file(tmp / "data/web"), "bench password",
+                    web::HashCost::kMinimum);
   web::WebOptions o;
   o.listen = "127.0.0.1:0";
   o.state_dir = tmp / "data/web";
@@ -81,17 +82,21 @@ int main() {
   for (int i = 0; i < kLoads; ++i) {
     auto t0 = SteadyClock::now();
     for (const char* target : {"/", "/style.css", "/app.js", "/api/session", "/api/status"})
-      if (b.send("GET", target).status != 200) std::fprintf(stderr, "bench_web: %s failed\n", target);
+      if (b.send("GET", target).status != 200)
+        std::fprintf(stderr, "bench_web: %s failed\n", target);
     loads.push_back(Ms(SteadyClock::now() - t0).count());
     t0 = SteadyClock::now();
     for (int k = 0; k < 5; ++k) b.send("GET", "/api/nothing-here");
     floors.push_back(Ms(SteadyClock::now() - t0).count());
   }
   const Stats load = stats(loads), floor = stats(floors);
-  std::printf("page load (5 requests, new TLS connection each), %d loads: median %.1f ms, p95 %.1f ms, "
-              "max %.1f ms (goal < 200 ms)\n", kLoads, load.median, load.p95, load.max);
-  std::printf("  baseline, 5 bare TLS requests answered 404: median %.1f ms; page load / baseline %.2f\n",
-              floor.median, load.median / floor.median);
+  std::printf(
+      "page load (5 requests, new TLS connection each), %d loads: median %.1f ms, p95 %.1f ms, "
+      "max %.1f ms (goal < 200 ms)\n",
+      kLoads, load.median, load.p95, load.max);
+  std::printf(
+      "  baseline, 5 bare TLS requests answered 404: median %.1f ms; page load / baseline %.2f\n",
+      floor.median, load.median / floor.median);
 
   // 2. Event -> open page.
   auto live = b.open_live();
@@ -110,10 +115,13 @@ int main() {
     turn_ms.push_back(Ms(SteadyClock::now() - t0).count());
   }
   const Stats ev = stats(event_ms), tu = stats(turn_ms);
-  std::printf("event in the store -> open page, 30 events: median %.1f ms, p95 %.1f ms, max %.1f ms "
-              "(goal < 500 ms; the log is polled every 200 ms)\n", ev.median, ev.p95, ev.max);
-  std::printf("conversation turn -> open page, 30 turns: median %.2f ms, p95 %.2f ms, max %.2f ms\n",
-              tu.median, tu.p95, tu.max);
+  std::printf(
+      "event in the store -> open page, 30 events: median %.1f ms, p95 %.1f ms, max %.1f ms "
+      "(goal < 500 ms; the log is polled every 200 ms)\n",
+      ev.median, ev.p95, ev.max);
+  std::printf(
+      "conversation turn -> open page, 30 turns: median %.2f ms, p95 %.2f ms, max %.2f ms\n",
+      tu.median, tu.p95, tu.max);
   live.reset();
 
   // 3. 50 open live pages.
@@ -135,11 +143,14 @@ int main() {
   const long after1 = burst(1);
   const long after2 = burst(2);
   const long after3 = burst(3);
-  std::printf("50 open live pages (%zu counted by the server): RSS %ld KiB before, %ld after opening, "
-              "%ld after burst 1, %ld after burst 2, %ld after burst 3 (200 turns x 50 pages each)\n",
-              server.live_pages(), before_open, opened, after1, after2, after3);
-  std::printf("  growth from burst 1 to burst 3: %+ld KiB (goal: none; client and server share this "
-              "process)\n", after3 - after1);
+  std::printf(
+      "50 open live pages (%zu counted by the server): RSS %ld KiB before, %ld after opening, "
+      "%ld after burst 1, %ld after burst 2, %ld after burst 3 (200 turns x 50 pages each)\n",
+      server.live_pages(), before_open, opened, after1, after2, after3);
+  std::printf(
+      "  growth from burst 1 to burst 3: %+ld KiB (goal: none; client and server share this "
+      "process)\n",
+      after3 - after1);
   pages.clear();
   server.stop();
   return 0;

@@ -14,6 +14,7 @@
 #include "app/host.h"
 #include "app/installed_skills.h"
 #include "app/web_run.h"
+#include "common/log.h"
 #include "data/sqlite_store.h"
 #include "web/auth.h"
 
@@ -65,15 +66,14 @@ web::WebOptions web_options(const WebRunOptions& o, const fs::path& data_dir,
   return w;
 }
 
-fs::path default_skills_dir() {
-  return default_installed_skills_dir().value_or(fs::path());
-}
+fs::path default_skills_dir() { return default_installed_skills_dir().value_or(fs::path()); }
 
 void install_web(CLI::App& root) {
   CLI::App& group = command_group(root, "web", "The carer's web page");
   {
     auto* cmd = group.add_subcommand(
-        "password", "Set the web page's password (read from standard input; asked twice on a terminal)");
+        "password",
+        "Set the web page's password (read from standard input; asked twice on a terminal)");
     auto dir = std::make_shared<std::string>();
     cmd->add_option("--data-dir", *dir, "Personal data directory (default: $MARVIN_DATA_DIR, ...)");
     cmd->callback([dir] {
@@ -86,31 +86,37 @@ void install_web(CLI::App& root) {
       } catch (const std::exception& e) {
         throw CliError(std::string(e.what()) + "; nothing was changed", 2);
       }
-      write_line("password set in " + file.string() + " (open sessions stay logged in until they expire)");
+      write_line("password set in " + file.string() +
+                 " (open sessions stay logged in until they expire)");
     });
   }
   {
     auto* cmd = group.add_subcommand(
-        "serve", "Serve the web page on the personal data and installed skills, without the robot "
-                 "(until SIGINT/SIGTERM)");
+        "serve",
+        "Serve the web page on the personal data and installed skills, without the robot "
+        "(until SIGINT/SIGTERM)");
     struct Args {
       std::string data_dir, skills_dir, time_zone;
       WebRunOptions web;
     };
     auto a = std::make_shared<Args>();
-    cmd->add_option("--data-dir", a->data_dir, "Personal data directory (default: $MARVIN_DATA_DIR, ...)");
-    cmd->add_option("--skills-dir", a->skills_dir, "Installed skills (default: $MARVIN_SKILLS_DIR, ...)");
-    cmd->add_option("--tz", a->time_zone, "IANA time zone for times shown and entered (default: the system's)");
+    cmd->add_option("--data-dir", a->data_dir,
+                    "Personal data directory (default: $MARVIN_DATA_DIR, ...)");
+    cmd->add_option("--skills-dir", a->skills_dir,
+                    "Installed skills (default: $MARVIN_SKILLS_DIR, ...)");
+    cmd->add_option("--tz", a->time_zone,
+                    "IANA time zone for times shown and entered (default: the system's)");
     add_web_run_options(*cmd, a->web);
     cmd->callback([a] {
       const fs::path data_dir = data_dir_or_default(a->data_dir);
       data::StoreOptions so;
       so.path = data::database_path(data_dir);
       data::SqliteStore store(so);
-      const fs::path skills = a->skills_dir.empty() ? default_skills_dir() : fs::path(a->skills_dir);
-      web::WebServer server(
-          web_options(a->web, data_dir, skills, a->time_zone.empty() ? system_time_zone() : a->time_zone),
-          store, store, nullptr);
+      const fs::path skills =
+          a->skills_dir.empty() ? default_skills_dir() : fs::path(a->skills_dir);
+      web::WebServer server(web_options(a->web, data_dir, skills,
+                                        a->time_zone.empty() ? system_time_zone() : a->time_zone),
+                            store, store, nullptr);
       // Signals are taken by sigwait below, not by a handler.
       sigset_t signals;
       sigemptyset(&signals);
@@ -139,9 +145,11 @@ void add_web_run_options(CLI::App& run, WebRunOptions& options) {
                  "Serve the carer's web page on ADDR:PORT (default 127.0.0.1:8443; "
                  "0.0.0.0:8443 for the home network)");
   run.add_flag("--no-web", options.off, "Do not serve the web page");
-  run.add_option("--web-cert", options.cert, "The page's certificate (PEM; default: made on first start)");
+  run.add_option("--web-cert", options.cert,
+                 "The page's certificate (PEM; default: made on first start)");
   run.add_option("--web-key", options.key, "The certificate's private key (PEM)");
-  run.add_option("--web-root", options.root, "The page's HTML/CSS/JS folder (default: this build's)");
+  run.add_option("--web-root", options.root,
+                 "The page's HTML/CSS/JS folder (default: this build's)");
 }
 
 std::unique_ptr<web::WebServer> start_web_for_host(Host& host, const WebRunOptions& options,
@@ -150,16 +158,18 @@ std::unique_ptr<web::WebServer> start_web_for_host(Host& host, const WebRunOptio
   if (options.off || !host.store()) return nullptr;
   const fs::path data_dir = host.data_path().parent_path();
   if (!web::password_is_set(web::password_file(web::web_state_dir(data_dir)))) {
-    host.show("[web page: off until a password is set with `marvin web password`]");
+    // On the log, not the console: the transcript stays what the robot says and does.
+    log(LogLevel::kInfo, "web", "the web page is off until a password is set with `marvin web password`");
     return nullptr;
   }
   auto server = std::make_unique<web::WebServer>(
-      web_options(options, data_dir, skills_dir.empty() ? default_skills_dir() : skills_dir, time_zone),
+      web_options(options, data_dir, skills_dir.empty() ? default_skills_dir() : skills_dir,
+                  time_zone),
       host.data(), *host.store(), &feed);
   try {
     server->start();
   } catch (const std::exception& e) {
-    host.show(std::string("[web page: not served: ") + e.what() + "]");
+    log(LogLevel::kWarning, "web", std::string("the web page is not served: ") + e.what());
     return nullptr;
   }
   host.show("[web page: " + server->url() + "]");

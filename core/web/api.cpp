@@ -53,9 +53,11 @@ std::vector<std::string> list_field(const json& doc, const char* name) {
   std::vector<std::string> out;
   auto it = doc.find(name);
   if (it == doc.end() || it->is_null()) return out;
-  if (!it->is_array()) throw ApiError(400, std::string("field '") + name + "': expected a list of strings");
+  if (!it->is_array())
+    throw ApiError(400, std::string("field '") + name + "': expected a list of strings");
   for (const json& v : *it) {
-    if (!v.is_string()) throw ApiError(400, std::string("field '") + name + "': expected a list of strings");
+    if (!v.is_string())
+      throw ApiError(400, std::string("field '") + name + "': expected a list of strings");
     if (!v.get<std::string>().empty()) out.push_back(v.get<std::string>());
   }
   return out;
@@ -78,14 +80,19 @@ json reminder_json(const data::Reminder& r) {
 }
 
 json contact_json(const data::Contact& c) {
-  return {{"id", c.id},           {"name", c.name},        {"relation", c.relation},
-          {"phones", c.phone_numbers}, {"sip", c.sip_uris}, {"aliases", c.aliases},
+  return {{"id", c.id},
+          {"name", c.name},
+          {"relation", c.relation},
+          {"phones", c.phone_numbers},
+          {"sip", c.sip_uris},
+          {"aliases", c.aliases},
           {"emergency", c.emergency_order}};
 }
 
 json skill_json(const store::InstalledSkill& s) {
-  json j = {{"id", s.id},         {"version", s.version}, {"kind", s.kind},
-            {"permissions", s.permissions}, {"source", s.source}, {"previous", nullptr}};
+  json j = {{"id", s.id},         {"version", s.version},
+            {"kind", s.kind},     {"permissions", s.permissions},
+            {"source", s.source}, {"previous", nullptr}};
   if (s.previous) j["previous"] = *s.previous;
   return j;
 }
@@ -93,11 +100,11 @@ json skill_json(const store::InstalledSkill& s) {
 // A file name as the browser sent it: a plain name of a .mskill, nothing that could name a
 // folder.
 void check_upload_name(const std::string& name) {
-  const bool plain =
-      !name.empty() && name.size() <= 128 && name.find("..") == std::string::npos &&
-      name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-@+") ==
-          std::string::npos &&
-      name.front() != '.' && name.ends_with(".mskill");
+  const bool plain = !name.empty() && name.size() <= 128 && name.find("..") == std::string::npos &&
+                     name.find_first_not_of(
+                         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-@+") ==
+                         std::string::npos &&
+                     name.front() != '.' && name.ends_with(".mskill");
   if (!plain)
     throw ApiError(400, "file name '" + name +
                             "' refused: expected a plain name ending in .mskill, like "
@@ -143,7 +150,8 @@ ApiResponse Api::handle(const ApiRequest& r) {
     std::string rest = r.path.substr(r.path.rfind("/api/", 0) == 0 ? 5 : r.path.size());
     for (std::size_t start = 0; start <= rest.size();) {
       const std::size_t slash = rest.find('/', start);
-      const std::string part = rest.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+      const std::string part =
+          rest.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
       parts.push_back(url_decode(part));
       if (slash == std::string::npos) break;
       start = slash + 1;
@@ -180,9 +188,9 @@ ApiResponse Api::status() {
   return {200,
           {{"running", feed_ != nullptr},
            {"now", data::format_local(std::chrono::duration_cast<std::chrono::milliseconds>(
-                                              std::chrono::system_clock::now().time_since_epoch())
-                                              .count(),
-                                          options_.time_zone)},
+                                          std::chrono::system_clock::now().time_since_epoch())
+                                          .count(),
+                                      options_.time_zone)},
            {"time_zone", options_.time_zone},
            {"live", live},
            {"next_reminders", next},
@@ -260,7 +268,8 @@ ApiResponse Api::contacts(const ApiRequest& r, const std::string& id_text) {
     c.aliases = list_field(doc, "aliases");
     if (auto it = doc.find("emergency"); it != doc.end() && !it->is_null()) {
       if (!it->is_number_integer() || it->get<std::int64_t>() < 0 || it->get<std::int64_t>() > 99)
-        throw ApiError(400, "field 'emergency': expected a whole number 0..99 (0: not an emergency contact)");
+        throw ApiError(
+            400, "field 'emergency': expected a whole number 0..99 (0: not an emergency contact)");
       c.emergency_order = it->get<int>();
     }
     const std::int64_t id = data_.add_contact(c);
@@ -307,13 +316,15 @@ ApiResponse Api::install_skill(const ApiRequest& r) {
   if (sodium_base642bin(reinterpret_cast<unsigned char*>(signature.data()), signature.size(),
                         r.signature.data(), r.signature.size(), nullptr, &signature_size, nullptr,
                         sodium_base64_VARIANT_ORIGINAL) != 0)
-    throw ApiError(400, "X-Marvin-Signature: not base64 (expected the .minisig file, base64-encoded)");
+    throw ApiError(400,
+                   "X-Marvin-Signature: not base64 (expected the .minisig file, base64-encoded)");
   signature.resize(signature_size);
-  std::vector<store::PublicKey> keys = options_.trusted_keys ? options_.trusted_keys()
-                                                             : std::vector<store::PublicKey>{};
+  std::vector<store::PublicKey> keys =
+      options_.trusted_keys ? options_.trusted_keys() : std::vector<store::PublicKey>{};
   if (keys.empty())
-    throw ApiError(422, "no trusted key to check the package's signature: add the repository "
-                        "with `marvin skill repo-add NAME PATH --key KEY.pub`");
+    throw ApiError(422,
+                   "no trusted key to check the package's signature: add the repository "
+                   "with `marvin skill repo-add NAME PATH --key KEY.pub`");
   const bool approved = r.query.count("approve") && r.query.at("approve") == "1";
 
   // The upload goes to its own folder under the state dir, removed afterwards.
@@ -327,7 +338,8 @@ ApiResponse Api::install_skill(const ApiRequest& r) {
     }
   } cleanup{folder};
   const fs::path package = folder / file->second;
-  std::ofstream(package, std::ios::binary).write(r.body.data(), static_cast<std::streamsize>(r.body.size()));
+  std::ofstream(package, std::ios::binary)
+      .write(r.body.data(), static_cast<std::streamsize>(r.body.size()));
   std::ofstream(package.string() + ".minisig", std::ios::binary) << signature;
 
   store::InstallOptions o;

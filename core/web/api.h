@@ -27,8 +27,7 @@ struct ApiResponse {
 
 class Api {
  public:
-  Api(const WebOptions& options, data::PersonalData& data, data::SqliteStore& store,
-      LiveFeed* feed)
+  Api(const WebOptions& options, data::PersonalData& data, data::SqliteStore& store, LiveFeed* feed)
       : options_(options), data_(data), store_(store), feed_(feed) {}
 
   ApiResponse handle(const ApiRequest& request);

@@ -40,7 +40,8 @@ std::unique_ptr<FILE, FileClose> open_for_writing(const fs::path& path, mode_t m
   std::error_code ec;
   if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, mode);
-  if (fd < 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
+  if (fd < 0)
+    throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
   FILE* f = ::fdopen(fd, "w");
   if (!f) {
     ::close(fd);

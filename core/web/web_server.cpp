@@ -2,14 +2,16 @@
 
 #include <unistd.h>
 
+// clang-format off
 #include <utility>  // before Asio: Boost 1.74's awaitable.hpp uses std::exchange
+// clang-format on
+#include <array>
+#include <atomic>
 #include <boost/asio.hpp>
 #include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl.hpp>
-#include <array>
-#include <atomic>
 #include <deque>
 #include <fstream>
 #include <iterator>
@@ -83,7 +85,8 @@ std::string cookie_value(std::string_view header, std::string_view name) {
     const auto semi = header.find(';');
     std::string_view part = header.substr(0, semi);
     while (!part.empty() && part.front() == ' ') part.remove_prefix(1);
-    if (part.size() > name.size() && part.substr(0, name.size()) == name && part[name.size()] == '=')
+    if (part.size() > name.size() && part.substr(0, name.size()) == name &&
+        part[name.size()] == '=')
       return std::string(part.substr(name.size() + 1));
     if (semi == std::string_view::npos) break;
     header.remove_prefix(semi + 1);
@@ -98,7 +101,8 @@ std::map<std::string, std::string> parse_query(std::string_view query) {
     const std::string_view pair = query.substr(0, amp);
     const auto eq = pair.find('=');
     if (!pair.empty())
-      out[url_decode(pair.substr(0, eq))] = eq == std::string_view::npos ? "" : url_decode(pair.substr(eq + 1));
+      out[url_decode(pair.substr(0, eq))] =
+          eq == std::string_view::npos ? "" : url_decode(pair.substr(eq + 1));
     if (amp == std::string_view::npos) break;
     query.remove_prefix(amp + 1);
   }
@@ -140,7 +144,7 @@ struct WebServer::Impl {
   Sessions sessions;
   LoginLimiter limiter;
   std::int64_t last_event_id = 0;
-  std::set<std::shared_ptr<WebConnection>> live;       // open live pages
+  std::set<std::shared_ptr<WebConnection>> live;                          // open live pages
   std::set<std::weak_ptr<WebConnection>, std::owner_less<>> connections;  // for stop()
   std::atomic<std::size_t> live_count{0};
 };
@@ -190,10 +194,9 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
     // word); on_header() answers 413 and then sets the limit for the body.
     parser_->body_limit(std::numeric_limits<std::uint64_t>::max());
     beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(60));
-    http::async_read_header(stream_, buffer_, *parser_,
-                            [self = shared_from_this()](beast::error_code ec, std::size_t) {
-                              self->on_header(ec);
-                            });
+    http::async_read_header(
+        stream_, buffer_, *parser_,
+        [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_header(ec); });
   }
 
   void on_header(beast::error_code ec) {
@@ -223,20 +226,24 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
     res.keep_alive(false);
     auto held = std::make_shared<Response>(std::move(res));
     beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(10));
-    http::async_write(stream_, *held, [self = shared_from_this(), held](beast::error_code ec, std::size_t) {
-      if (ec && ec != http::error::end_of_stream) return self->close();  // "close" is ours
-      // Closing with the client's body still arriving would reset the connection and could
-      // lose the answer: stop sending, then read and drop what comes (up to 8 MiB or 5 s).
-      beast::error_code ignored;
-      beast::get_lowest_layer(self->stream_).socket().shutdown(tcp::socket::shutdown_send, ignored);
-      beast::get_lowest_layer(self->stream_).expires_after(std::chrono::seconds(5));
-      self->drain(8 * 1024 * 1024);
-    });
+    http::async_write(
+        stream_, *held, [self = shared_from_this(), held](beast::error_code ec, std::size_t) {
+          if (ec && ec != http::error::end_of_stream) return self->close();  // "close" is ours
+          // Closing with the client's body still arriving would reset the connection and could
+          // lose the answer: stop sending, then read and drop what comes (up to 8 MiB or 5 s).
+          beast::error_code ignored;
+          beast::get_lowest_layer(self->stream_)
+              .socket()
+              .shutdown(tcp::socket::shutdown_send, ignored);
+          beast::get_lowest_layer(self->stream_).expires_after(std::chrono::seconds(5));
+          self->drain(8 * 1024 * 1024);
+        });
   }
 
   void drain(std::size_t budget) {
     beast::get_lowest_layer(stream_).async_read_some(
-        asio::buffer(drain_buffer_), [self = shared_from_this(), budget](beast::error_code ec, std::size_t n) {
+        asio::buffer(drain_buffer_),
+        [self = shared_from_this(), budget](beast::error_code ec, std::size_t n) {
           if (ec || n >= budget) return self->close();
           self->drain(budget - n);
         });
@@ -273,18 +280,19 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
     res.keep_alive(!close_after);
     auto held = std::make_shared<Response>(std::move(res));
     beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(60));
-    http::async_write(stream_, *held,
-                      [self = shared_from_this(), held, close_after](beast::error_code ec, std::size_t) {
-                        if (ec || close_after) return self->close();
-                        self->read_header();
-                      });
+    http::async_write(
+        stream_, *held,
+        [self = shared_from_this(), held, close_after](beast::error_code ec, std::size_t) {
+          if (ec || close_after) return self->close();
+          self->read_header();
+        });
   }
 
   Response serve_file(const std::string& path) const {
     std::string name = path == "/" ? "index.html" : path.substr(1);
-    const bool plain = !name.empty() && name.find("..") == std::string::npos &&
-                       name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-.") ==
-                           std::string::npos;
+    const bool plain =
+        !name.empty() && name.find("..") == std::string::npos &&
+        name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-.") == std::string::npos;
     const fs::path file = server_.options.static_dir / name;
     std::ifstream in(file, std::ios::binary);
     if (!plain || !in) return error_response(404, "no page " + path);
@@ -312,9 +320,11 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
     const bool page_link = method == "GET" && path.rfind("/api/", 0) != 0;
     if ((!origin.empty() && origin != own_origin) ||
         (req["Sec-Fetch-Site"] == "cross-site" && !page_link))
-      return send(error_response(403, "request from another origin (" +
-                                          (origin.empty() || origin == own_origin ? std::string("cross-site") : origin) +
-                                          ") refused; this page is " + own_origin),
+      return send(error_response(
+                      403, "request from another origin (" +
+                               (origin.empty() || origin == own_origin ? std::string("cross-site")
+                                                                       : origin) +
+                               ") refused; this page is " + own_origin),
                   !keep);
 
     if (path == "/login.html" || path == "/style.css" || path == "/login.js")
@@ -327,48 +337,57 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
     const bool is_api = path.rfind("/api/", 0) == 0;
     if (!session) {
       if (is_api)
-        return send(error_response(401, "not logged in, or the session expired: log in at /login.html"), !keep);
+        return send(
+            error_response(401, "not logged in, or the session expired: log in at /login.html"),
+            !keep);
       Response res = base_response(302);
       res.set(http::field::location, "/login.html");
       res.prepare_payload();
       return send(std::move(res), !keep);
     }
     if (!is_api) {
-      if (method != "GET") return send(error_response(405, method + " " + path + ": pages are only read"), !keep);
+      if (method != "GET")
+        return send(error_response(405, method + " " + path + ": pages are only read"), !keep);
       return send(serve_file(path), !keep);
     }
     if (method != "GET") {
       const std::string token(req["X-CSRF-Token"]);
       if (token.empty())
-        return send(error_response(403, "missing CSRF token (X-CSRF-Token header); nothing was changed"), !keep);
+        return send(
+            error_response(403, "missing CSRF token (X-CSRF-Token header); nothing was changed"),
+            !keep);
       if (!same_token(token, session->csrf))
-        return send(error_response(403, "wrong CSRF token (X-CSRF-Token header); nothing was changed"), !keep);
+        return send(
+            error_response(403, "wrong CSRF token (X-CSRF-Token header); nothing was changed"),
+            !keep);
     }
     if (path == "/api/session" && method == "GET") {
-      const auto left = std::chrono::duration_cast<std::chrono::seconds>(session->expires - server_.now());
-      return send(json_response(200, {{"csrf", session->csrf}, {"expires_in_s", left.count()}}), !keep);
+      const auto left =
+          std::chrono::duration_cast<std::chrono::seconds>(session->expires - server_.now());
+      return send(json_response(200, {{"csrf", session->csrf}, {"expires_in_s", left.count()}}),
+                  !keep);
     }
     if (path == "/api/logout" && method == "POST") {
       server_.sessions.remove(session->id);
       Response res = json_response(200, {{"logged_out", true}});
-      res.set(http::field::set_cookie, std::string(kCookie) +
-                                           "=; Path=/; Secure; HttpOnly; SameSite=Strict; Max-Age=0");
+      res.set(http::field::set_cookie,
+              std::string(kCookie) + "=; Path=/; Secure; HttpOnly; SameSite=Strict; Max-Age=0");
       return send(std::move(res), !keep);
     }
     if (path == "/api/live" && method == "GET") return start_live(session->id);
 
     ApiRequest api{method, path, {}, std::move(req.body()), std::string(req["X-Marvin-Signature"])};
     try {
-      if (question != std::string::npos) api.query = parse_query(std::string_view(target).substr(question + 1));
+      if (question != std::string::npos)
+        api.query = parse_query(std::string_view(target).substr(question + 1));
     } catch (const std::exception& e) {
       return send(error_response(400, std::string("query: ") + e.what()), !keep);
     }
     ApiResponse out = server_.api.handle(api);
     if (method != "GET" && out.status < 300) {
       // Other open pages refresh what changed ("reminders", "contacts", "skills").
-      const std::string what = path.substr(5, path.find('/', 5) == std::string::npos
-                                                   ? std::string::npos
-                                                   : path.find('/', 5) - 5);
+      const std::string what = path.substr(
+          5, path.find('/', 5) == std::string::npos ? std::string::npos : path.find('/', 5) - 5);
       server_.broadcast("changed", {{"what", what}});
     }
     send(json_response(out.status, out.body), !keep);
@@ -398,9 +417,9 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
     server_.limiter.succeeded(client_);
     const Session s = server_.sessions.create(now);
     Response res = json_response(200, {{"csrf", s.csrf}});
-    res.set(http::field::set_cookie,
-            std::string(kCookie) + "=" + s.id + "; Path=/; Secure; HttpOnly; SameSite=Strict; Max-Age=" +
-                std::to_string(server_.sessions.ttl().count()));
+    res.set(http::field::set_cookie, std::string(kCookie) + "=" + s.id +
+                                         "; Path=/; Secure; HttpOnly; SameSite=Strict; Max-Age=" +
+                                         std::to_string(server_.sessions.ttl().count()));
     return res;
   }
 
@@ -410,17 +429,17 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
     queue_.push_back(
         "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\nCache-Control: no-store\r\n"
         "X-Content-Type-Options: nosniff\r\nConnection: keep-alive\r\n\r\n");
-    json first = server_.feed ? server_.feed->snapshot() : json{{"light", "off"}, {"doing", ""}, {"turns", json::array()}};
+    json first = server_.feed ? server_.feed->snapshot()
+                              : json{{"light", "off"}, {"doing", ""}, {"turns", json::array()}};
     first["running"] = server_.feed != nullptr;
     queue_.push_back("event: hello\ndata: " + first.dump() + "\n\n");
     server_.live.insert(shared_from_this());
     server_.live_count = server_.live.size();
     write_next();
     // The page sends nothing more: a read ends only when it goes away.
-    stream_.async_read_some(asio::buffer(discard_),
-                            [self = shared_from_this()](beast::error_code, std::size_t) {
-                              self->drop_live();
-                            });
+    stream_.async_read_some(
+        asio::buffer(discard_),
+        [self = shared_from_this()](beast::error_code, std::size_t) { self->drop_live(); });
   }
 
   void drop_live() {
@@ -487,7 +506,8 @@ void WebServer::Impl::poll_events() {
     }
     for (auto it = fresh.rbegin(); it != fresh.rend(); ++it) {
       last_event_id = std::max(last_event_id, it->id);
-      broadcast("event", api.event_json(it->id, it->time_utc_ms, it->kind, it->source, it->message));
+      broadcast("event",
+                api.event_json(it->id, it->time_utc_ms, it->kind, it->source, it->message));
     }
   } catch (const std::exception&) {
     // A busy or failing database is reported by the page's next request; retry next tick.

@@ -76,8 +76,7 @@ class WebServer {
   // `data` is what reminders and contacts are changed through (the host's, which tells the
   // reminder scheduler), `store` the same SQLite file (events, people); `feed` may be null
   // (no host running: the status says so). All must outlive the server.
-  WebServer(WebOptions options, data::PersonalData& data, data::SqliteStore& store,
-            LiveFeed* feed);
+  WebServer(WebOptions options, data::PersonalData& data, data::SqliteStore& store, LiveFeed* feed);
   ~WebServer();
   WebServer(const WebServer&) = delete;
   WebServer& operator=(const WebServer&) = delete;

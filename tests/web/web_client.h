@@ -5,7 +5,9 @@
 
 #include <sys/socket.h>
 
+// clang-format off
 #include <utility>  // before Asio: Boost 1.74's awaitable.hpp uses std::exchange
+// clang-format on
 #include <boost/asio.hpp>
 #include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
@@ -30,10 +32,11 @@ using tcp = asio::ip::tcp;
 // Shuts the socket down (the blocked read returns) unless cancelled within `timeout`.
 class Watchdog {
  public:
-  Watchdog(int fd, std::chrono::seconds timeout) : thread_([this, fd, timeout] {
-      std::unique_lock lock(mutex_);
-      if (!cv_.wait_for(lock, timeout, [this] { return done_; })) ::shutdown(fd, SHUT_RDWR);
-    }) {}
+  Watchdog(int fd, std::chrono::seconds timeout)
+      : thread_([this, fd, timeout] {
+          std::unique_lock lock(mutex_);
+          if (!cv_.wait_for(lock, timeout, [this] { return done_; })) ::shutdown(fd, SHUT_RDWR);
+        }) {}
   ~Watchdog() {
     {
       std::lock_guard lock(mutex_);
@@ -126,8 +129,9 @@ class Browser {
   Reply send(const std::string& method, const std::string& target, const std::string& body = "",
              std::vector<std::pair<std::string, std::string>> headers = {}) {
     Connection c(port_, cert_);
-    std::string raw = method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1:" +
-                      std::to_string(port_) + "\r\nConnection: close\r\n";
+    std::string raw = method + " " + target +
+                      " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port_) +
+                      "\r\nConnection: close\r\n";
     bool has_origin = false;
     for (const auto& [name, value] : headers) {
       raw += name + ": " + value + "\r\n";

@@ -55,8 +55,9 @@ struct Site {
                 const std::function<void(WebOptions&)>& adjust = {}) {
     set_password(password_file(tmp / "data/web"), kPassword, HashCost::kMinimum);
     // The skills folder trusts `key`, as after `marvin skill repo-add`.
-    test_support::write_text(tmp / "skills/.store/repositories.json",
-                             json{{"home", {{"path", "/nowhere"}, {"keys", {key.public_key().base64()}}}}}.dump());
+    test_support::write_text(
+        tmp / "skills/.store/repositories.json",
+        json{{"home", {{"path", "/nowhere"}, {"keys", {key.public_key().base64()}}}}}.dump());
     // A skills folder in use (its lock files made), so a refusal must leave it byte for byte.
     store::Installer(tmp / "skills").recover();
     WebOptions o;
@@ -84,18 +85,21 @@ struct Site {
   // A signed package of a Lua skill, as `marvin skill pack --sign` makes it.
   fs::path package(const std::string& id, const std::string& version,
                    const std::string& permissions = "[]") {
-    const fs::path src = app::test::lua_skill(tmp / "src", id, version, "Hi", "", R"({"min": "1.0"})", permissions);
+    const fs::path src =
+        app::test::lua_skill(tmp / "src", id, version, "Hi", "", R"({"min": "1.0"})", permissions);
     return test_support::pack_signed(src, tmp / "packages", key);
   }
   Reply upload(Browser& b, const fs::path& package, const std::string& name, bool approve = true) {
-    return b.send("POST", "/api/skills/install?file=" + name + (approve ? "&approve=1" : ""),
-                  test_support::read_text(package),
-                  {{"X-Marvin-Signature", base64(test_support::read_text(package.string() + ".minisig"))},
-                   {"Content-Type", "application/octet-stream"}});
+    return b.send(
+        "POST", "/api/skills/install?file=" + name + (approve ? "&approve=1" : ""),
+        test_support::read_text(package),
+        {{"X-Marvin-Signature", base64(test_support::read_text(package.string() + ".minisig"))},
+         {"Content-Type", "application/octet-stream"}});
   }
 };
 
-const std::string kReminder = json{{"title", "take my pills"}, {"at", "2031-03-04T08:30"}, {"repeat", "daily"}}.dump();
+const std::string kReminder =
+    json{{"title", "take my pills"}, {"at", "2031-03-04T08:30"}, {"repeat", "daily"}}.dump();
 
 TEST_CASE("web: login, then the page and the API; without a session only the login page") {
   Site site;
@@ -156,8 +160,11 @@ TEST_CASE("web: reminders added, edited and deleted on the page are the CLI's re
   CHECK(stored[0].created_by == "user");
 
   const std::string id = std::to_string(stored[0].id);
-  Reply edited = b.send("PUT", "/api/reminders/" + id,
-                        json{{"title", "take the blue pill"}, {"at", "2031-03-04T09:00"}, {"repeat", "weekly:mon,thu"}}.dump());
+  Reply edited = b.send(
+      "PUT", "/api/reminders/" + id,
+      json{
+          {"title", "take the blue pill"}, {"at", "2031-03-04T09:00"}, {"repeat", "weekly:mon,thu"}}
+          .dump());
   REQUIRE(edited.status == 200);
   stored = site.store.list_reminders();
   REQUIRE(stored.size() == 1);
@@ -180,12 +187,15 @@ TEST_CASE("web: a bad reminder names the field and adds nothing") {
   Site site;
   Browser b = site.logged_in();
   REQUIRE(b.send("POST", "/api/reminders", kReminder).status == 201);
-  Reply bad_repeat = b.send("POST", "/api/reminders",
-                            json{{"title", "x"}, {"at", "2031-03-04T08:30"}, {"repeat", "fortnightly"}}.dump());
+  Reply bad_repeat =
+      b.send("POST", "/api/reminders",
+             json{{"title", "x"}, {"at", "2031-03-04T08:30"}, {"repeat", "fortnightly"}}.dump());
   CHECK(bad_repeat.status == 422);
   CHECK(bad_repeat.error() ==
-        "repeat: unknown 'fortnightly' (expected once, daily, weekdays, weekly:mon,thu or every:MINUTES)");
-  Reply bad_time = b.send("POST", "/api/reminders", json{{"title", "x"}, {"at", "tomorrow"}}.dump());
+        "repeat: unknown 'fortnightly' (expected once, daily, weekdays, weekly:mon,thu or "
+        "every:MINUTES)");
+  Reply bad_time =
+      b.send("POST", "/api/reminders", json{{"title", "x"}, {"at", "tomorrow"}}.dump());
   CHECK(bad_time.status == 400);
   CHECK(bad_time.error().rfind("field 'at': ", 0) == 0);
   Reply no_title = b.send("POST", "/api/reminders", json{{"at", "2031-03-04T08:30"}}.dump());
@@ -196,8 +206,9 @@ TEST_CASE("web: a bad reminder names the field and adds nothing") {
   CHECK(not_json.error().rfind("request body: not valid JSON", 0) == 0);
   // An edit that is refused leaves the reminder as it was.
   const auto id = site.store.list_reminders()[0].id;
-  Reply bad_edit = b.send("PUT", "/api/reminders/" + std::to_string(id),
-                          json{{"title", "y"}, {"at", "2031-03-04T08:30"}, {"repeat", "weekly:funday"}}.dump());
+  Reply bad_edit =
+      b.send("PUT", "/api/reminders/" + std::to_string(id),
+             json{{"title", "y"}, {"at", "2031-03-04T08:30"}, {"repeat", "weekly:funday"}}.dump());
   CHECK(bad_edit.status == 422);
   CHECK(bad_edit.error() == "repeat: unknown day 'funday' (expected mon,tue,wed,thu,fri,sat,sun)");
   auto stored = site.store.list_reminders();
@@ -210,8 +221,10 @@ TEST_CASE("web: contacts, and <script> in a name comes back as data") {
   Site site;
   Browser b = site.logged_in();
   const std::string name = "<script>alert('x')</script> Anna";
-  Reply added = b.send("POST", "/api/contacts",
-                       json{{"name", name}, {"relation", "daughter"}, {"phones", {"+49 30 1234"}}, {"emergency", 1}}.dump());
+  Reply added = b.send(
+      "POST", "/api/contacts",
+      json{{"name", name}, {"relation", "daughter"}, {"phones", {"+49 30 1234"}}, {"emergency", 1}}
+          .dump());
   REQUIRE(added.status == 201);
   Reply listed = b.send("GET", "/api/contacts");
   CHECK(listed.content_type == "application/json; charset=utf-8");
@@ -219,12 +232,15 @@ TEST_CASE("web: contacts, and <script> in a name comes back as data") {
   CHECK(listed.json()[0]["name"] == name);  // the text as typed, never turned into markup
   CHECK(listed.json()[0]["emergency"] == 1);
   // The page puts names in with textContent only (no innerHTML anywhere in its script).
-  CHECK(test_support::read_text(fs::path(MARVIN_WEB_TEST_STATIC_DIR) / "app.js").find("innerHTML") ==
-        std::string::npos);
+  CHECK(
+      test_support::read_text(fs::path(MARVIN_WEB_TEST_STATIC_DIR) / "app.js").find("innerHTML") ==
+      std::string::npos);
 
   const auto id = site.store.list_contacts()[0].id;
-  Reply edited = b.send("PUT", "/api/contacts/" + std::to_string(id),
-                        json{{"name", "Anna Schmidt"}, {"relation", "daughter"}, {"sip", {"sip:anna@example.org"}}}.dump());
+  Reply edited = b.send(
+      "PUT", "/api/contacts/" + std::to_string(id),
+      json{{"name", "Anna Schmidt"}, {"relation", "daughter"}, {"sip", {"sip:anna@example.org"}}}
+          .dump());
   REQUIRE(edited.status == 200);
   auto contacts = site.store.list_contacts();
   REQUIRE(contacts.size() == 1);
@@ -232,7 +248,8 @@ TEST_CASE("web: contacts, and <script> in a name comes back as data") {
   CHECK(contacts[0].sip_uris == std::vector<std::string>{"sip:anna@example.org"});
   Reply bad = b.send("POST", "/api/contacts", json{{"name", "Bob"}, {"emergency", "first"}}.dump());
   CHECK(bad.status == 400);
-  CHECK(bad.error() == "field 'emergency': expected a whole number 0..99 (0: not an emergency contact)");
+  CHECK(bad.error() ==
+        "field 'emergency': expected a whole number 0..99 (0: not an emergency contact)");
   CHECK(site.store.list_contacts().size() == 1);
   CHECK(b.send("DELETE", "/api/contacts/" + std::to_string(contacts[0].id)).status == 200);
   CHECK(site.store.list_contacts().empty());
@@ -276,21 +293,27 @@ TEST_CASE("web: a request from another origin is refused and changes nothing") {
   Browser b = site.logged_in();
   Reply r = b.send("POST", "/api/reminders", kReminder, {{"Origin", "https://evil.example"}});
   CHECK(r.status == 403);
-  const std::string expected = "request from another origin (https://evil.example) refused; this "
-                               "page is https://127.0.0.1:" + std::to_string(site.server->port());
+  const std::string expected =
+      "request from another origin (https://evil.example) refused; this "
+      "page is https://127.0.0.1:" +
+      std::to_string(site.server->port());
   CHECK(r.error() == expected);
   REQUIRE(b.send("POST", "/api/contacts", json{{"name", "Anna"}}.dump()).status == 201);
   const auto contact = std::to_string(site.store.list_contacts()[0].id);
-  Reply fetch_site = b.send("DELETE", "/api/contacts/" + contact, "", {{"Sec-Fetch-Site", "cross-site"}});
+  Reply fetch_site =
+      b.send("DELETE", "/api/contacts/" + contact, "", {{"Sec-Fetch-Site", "cross-site"}});
   CHECK(fetch_site.status == 403);
-  CHECK(fetch_site.error() == "request from another origin (cross-site) refused; this page is "
-                              "https://127.0.0.1:" + std::to_string(site.server->port()));
+  CHECK(fetch_site.error() ==
+        "request from another origin (cross-site) refused; this page is "
+        "https://127.0.0.1:" +
+            std::to_string(site.server->port()));
   CHECK(site.store.list_contacts().size() == 1);
   Reply read = b.send("GET", "/api/contacts", "", {{"Sec-Fetch-Site", "cross-site"}});
   CHECK(read.status == 403);  // another site's script may not read the data either
   // A link on another site may open the page itself.
   CHECK(b.send("GET", "/", "", {{"Sec-Fetch-Site", "cross-site"}}).status == 200);
-  Reply login = b.send("POST", "/api/login", json{{"password", kPassword}}.dump(), {{"Origin", "http://127.0.0.1"}});
+  Reply login = b.send("POST", "/api/login", json{{"password", kPassword}}.dump(),
+                       {{"Origin", "http://127.0.0.1"}});
   CHECK(login.status == 403);
   CHECK(login.set_cookie.empty());
   CHECK(site.store.list_reminders().empty());
@@ -302,14 +325,16 @@ TEST_CASE("web: a 100 MB upload is refused from its headers, before the body is 
   const auto before = test_support::snapshot(site.tmp / "skills");
   test::Connection c(site.server->port(), site.tmp / "data/web/cert.pem");
   // Only the head: the server answers without waiting for the 100 MB.
-  c.write("POST /api/skills/install?file=big-1.0.0.mskill&approve=1 HTTP/1.1\r\nHost: 127.0.0.1\r\n"
-          "Cookie: " + b.cookie + "\r\nX-CSRF-Token: " + b.csrf +
-          "\r\nContent-Length: 104857600\r\n\r\n");
+  c.write(
+      "POST /api/skills/install?file=big-1.0.0.mskill&approve=1 HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+      "Cookie: " +
+      b.cookie + "\r\nX-CSRF-Token: " + b.csrf + "\r\nContent-Length: 104857600\r\n\r\n");
   Reply r = c.read_reply();
   CHECK(r.status == 413);
   CHECK(r.error() == "request body too large: 104857600 bytes, at most 1048576 bytes here");
   CHECK(test_support::snapshot(site.tmp / "skills") == before);
-  const bool no_upload_kept = !fs::exists(site.tmp / "data/web/uploads") || fs::is_empty(site.tmp / "data/web/uploads");
+  const bool no_upload_kept =
+      !fs::exists(site.tmp / "data/web/uploads") || fs::is_empty(site.tmp / "data/web/uploads");
   CHECK(no_upload_kept);
   // Other requests are capped lower.
   Reply contact = b.send("POST", "/api/contacts", json{{"name", std::string(70000, 'a')}}.dump());
@@ -358,8 +383,9 @@ TEST_CASE("web: an upload named with ../, unsigned or signed by a stranger is re
 
   Reply dots = site.upload(b, v1, "../../hello-1.0.0.mskill");
   CHECK(dots.status == 400);
-  CHECK(dots.error() == "file name '../../hello-1.0.0.mskill' refused: expected a plain name ending "
-                        "in .mskill, like hello-1.0.0.mskill (no folders, no '..')");
+  CHECK(dots.error() ==
+        "file name '../../hello-1.0.0.mskill' refused: expected a plain name ending "
+        "in .mskill, like hello-1.0.0.mskill (no folders, no '..')");
   Reply encoded = site.upload(b, v1, "..%2Fhello-1.0.0.mskill");
   CHECK(encoded.status == 400);
   CHECK(encoded.error().rfind("file name '../hello-1.0.0.mskill' refused", 0) == 0);
@@ -369,11 +395,13 @@ TEST_CASE("web: an upload named with ../, unsigned or signed by a stranger is re
   Reply unsigned_upload = b.send("POST", "/api/skills/install?file=hello-1.0.0.mskill&approve=1",
                                  test_support::read_text(v1));
   CHECK(unsigned_upload.status == 400);
-  CHECK(unsigned_upload.error() == "X-Marvin-Signature: missing; send the package's .minisig file with it");
+  CHECK(unsigned_upload.error() ==
+        "X-Marvin-Signature: missing; send the package's .minisig file with it");
 
   // Signed with a key the skills folder does not trust.
   const fs::path src = app::test::lua_skill(site.tmp / "stranger", "hello", "1.0.0", "Hi");
-  const fs::path strange = test_support::pack_signed(src, site.tmp / "stranger-packages", store::generate_secret_key());
+  const fs::path strange =
+      test_support::pack_signed(src, site.tmp / "stranger-packages", store::generate_secret_key());
   Reply stranger = site.upload(b, strange, "hello-1.0.0.mskill");
   CHECK(stranger.status == 422);
   CHECK(stranger.error().find("hello-1.0.0.mskill") != std::string::npos);
@@ -420,7 +448,8 @@ TEST_CASE("web: a password shorter than 8 characters is refused and nothing is s
   TempDir tmp;
   const fs::path file = password_file(tmp / "web");
   CHECK_THROWS_WITH_AS(set_password(file, "short", HashCost::kMinimum),
-                       "the password must have at least 8 characters (it has 5)", std::runtime_error);
+                       "the password must have at least 8 characters (it has 5)",
+                       std::runtime_error);
   CHECK(!fs::exists(file));
   CHECK(!check_password(file, "short"));
   set_password(file, "long enough", HashCost::kMinimum);
@@ -438,7 +467,7 @@ TEST_CASE("web: the user's own certificate is used, and a missing key file is na
     o.key_file = mine / "site.key";
   });
   CHECK(!fs::exists(site.tmp / "data/web/cert.pem"));  // none made
-  Browser b(site.server->port(), mine / "site.pem");  // trusts only the user's certificate
+  Browser b(site.server->port(), mine / "site.pem");   // trusts only the user's certificate
   CHECK(b.login(kPassword).status == 200);
 
   WebOptions o;

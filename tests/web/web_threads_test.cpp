@@ -48,7 +48,8 @@ TEST_CASE("web threads: lines from four threads and events from a fifth reach th
     });
   }
   threads.emplace_back([&store] {
-    for (int i = 0; i < kEvents; ++i) store.log_event("note", "threads", "event " + std::to_string(i));
+    for (int i = 0; i < kEvents; ++i)
+      store.log_event("note", "threads", "event " + std::to_string(i));
   });
   for (auto& t : threads) t.join();
 
