@@ -63,56 +63,13 @@ std::string local_zone() {
   }
 }
 
-std::int32_t parse_hhmm(const std::string& text, const std::string& what) {
-  int h = -1, m = -1, used = 0;
-  if (std::sscanf(text.c_str(), "%2d:%2d%n", &h, &m, &used) != 2 ||
-      used != static_cast<int>(text.size()) || h < 0 || h > 24 || m < 0 || m > 59 ||
-      h * 60 + m > 24 * 60)
-    throw CliError(what + ": '" + text + "' is not a time of day HH:MM", 2);
-  return h * 60 + m;
-}
-
-// once | daily | weekdays | weekly:mon,thu | every:MINUTES (with --window HH:MM-HH:MM)
+// The store's rule (data::parse_repeat), with the CLI's option names in its errors.
 Recurrence parse_repeat(const std::string& repeat, const std::string& window) {
-  Recurrence r;
-  static const char* kDays[] = {"mon", "tue", "wed", "thu", "fri", "sat", "sun"};
-  if (repeat == "once") {
-    r.kind = Recurrence::Kind::kOnce;
-  } else if (repeat == "daily") {
-    r.kind = Recurrence::Kind::kDaily;
-  } else if (repeat == "weekdays") {
-    r.kind = Recurrence::Kind::kWeekdays;
-  } else if (repeat.rfind("weekly:", 0) == 0) {
-    r.kind = Recurrence::Kind::kWeekly;
-    std::stringstream days(repeat.substr(7));
-    for (std::string day; std::getline(days, day, ',');) {
-      int index = -1;
-      for (int i = 0; i < 7; ++i)
-        if (day == kDays[i]) index = i;
-      if (index < 0)
-        throw CliError("--repeat: unknown day '" + day + "' (expected mon,tue,wed,thu,fri,sat,sun)", 2);
-      r.weekdays = static_cast<std::uint8_t>(r.weekdays | (1u << index));
-    }
-  } else if (repeat.rfind("every:", 0) == 0) {
-    r.kind = Recurrence::Kind::kInterval;
-    const std::string minutes = repeat.substr(6);
-    if (minutes.empty() || minutes.find_first_not_of("0123456789") != std::string::npos ||
-        minutes.size() > 4)
-      throw CliError("--repeat: 'every:' needs a number of minutes, got '" + minutes + "'", 2);
-    r.interval_minutes = std::stoi(minutes);
-  } else {
-    throw CliError("--repeat: unknown '" + repeat +
-                       "' (expected once, daily, weekdays, weekly:mon,thu or every:MINUTES)", 2);
+  try {
+    return data::parse_repeat(repeat, window);
+  } catch (const std::runtime_error& e) {
+    throw CliError(std::string("--") + e.what(), 2);
   }
-  if (!window.empty()) {
-    if (r.kind != Recurrence::Kind::kInterval)
-      throw CliError("--window only applies to --repeat every:MINUTES", 2);
-    const auto dash = window.find('-');
-    if (dash == std::string::npos) throw CliError("--window: expected HH:MM-HH:MM", 2);
-    r.window_start_minute = parse_hhmm(window.substr(0, dash), "--window");
-    r.window_end_minute = parse_hhmm(window.substr(dash + 1), "--window");
-  }
-  return r;
 }
 
 void print_reminder(const data::Reminder& r) {

@@ -22,6 +22,7 @@
 #include "app/cli.h"
 #include "app/host.h"
 #include "app/voice_run.h"
+#include "app/web_run.h"
 #include "app/installed_skills.h"
 #include "common/log.h"
 #include "sim/world.h"
@@ -50,6 +51,7 @@ struct RunOptions {
   std::string mqtt;         // --mqtt HOST:PORT
   std::string home_config;  // --home-config FILE
   VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
+  WebRunOptions web;      // the carer's web page (app/web_run.h)
 };
 
 // The smart home: --mqtt (a broker without authentication, e.g. scripts/sim's), else
@@ -133,7 +135,12 @@ void run_sim(const RunOptions& o) {
     live = open_live_audio(o.voice);
   }
   set_log_level(o.verbose ? LogLevel::kInfo : LogLevel::kWarning);
-  std::unique_ptr<Host> host_ptr = open_host(o, write_line);
+  // The console's lines also feed the web page's live view.
+  auto feed = std::make_shared<web::LiveFeed>();
+  std::unique_ptr<Host> host_ptr = open_host(o, [feed](std::string_view line) {
+    write_line(line);
+    feed->console_line(line);
+  });
   Host& host = *host_ptr;
   // Watching starts before loading, so nothing installed meanwhile is missed (a reload
   // that finds no change does nothing).
@@ -144,12 +151,22 @@ void run_sim(const RunOptions& o) {
                                           "picked up at the next start");
   }
   host.load();
-  if (live || !o.voice.audio_in.empty()) return run_voice(std::move(host_ptr), o.voice, live);
+  const HostOptions options = host_options(o);
+  std::unique_ptr<web::WebServer> page = start_web_for_host(
+      host, o.web, *feed, options.installed_skills_dir, options.time_zone);
+  if (live || !o.voice.audio_in.empty()) {
+    page.reset();  // the voice run owns the host from here on
+    return run_voice(std::move(host_ptr), o.voice, live);
+  }
   const bool interactive = isatty(STDIN_FILENO) != 0;
-  if (interactive) {
+  if (interactive) {  // typed lines are not echoed, but the page shows them as turns
     write_line("Marvin (simulated robot). Type a request; Ctrl-D quits.");
+    host.loop().on_heard([feed](std::string_view line) { feed->console_line("You: " + std::string(line)); });
   } else {
-    host.loop().on_heard([](std::string_view line) { write_line("You: " + std::string(line)); });
+    host.loop().on_heard([feed](std::string_view line) {
+      write_line("You: " + std::string(line));
+      feed->console_line("You: " + std::string(line));
+    });
   }
   // The console reader feeds the host loop; the loop runs here until end of input.
   std::thread reader = start_console_reader(host);
@@ -158,6 +175,7 @@ void run_sim(const RunOptions& o) {
   host.start_scheduler();
   host.loop().run();
   reader.join();
+  page.reset();  // before the host it serves
 }
 
 void list_skills(const RunOptions& o) {
@@ -264,6 +282,7 @@ void install_skill_platform_commands(CLI::App& root) {
                   "~/.config/marvin/home.json when it exists)");
   add_skill_options(*run, *options);
   add_voice_run_options(*run, options->voice);
+  add_web_run_options(*run, options->web);
   run->callback([options] { run_sim(*options); });
 
   CLI::App& skills = command_group(root, "skills", "Installed skills");

@@ -259,10 +259,7 @@ void install_store_commands(CLI::App& root) {
     store::Installer inst = make_installer(*args);
     if (args->target.ends_with(".mskill") || fs::is_regular_file(args->target)) {
       std::vector<store::PublicKey> trusted = key_files(*args);
-      json repos = load_repositories(*args);
-      for (auto it = repos.begin(); it != repos.end(); ++it) {
-        for (const auto& k : it->at("keys")) trusted.push_back(store::parse_public_key(k.get<std::string>(), "repositories.json"));
-      }
+      for (store::PublicKey& k : repository_keys(skills_dir(*args))) trusted.push_back(std::move(k));
       if (trusted.empty()) throw CliError(args->target + ": no trusted key to check its signature; pass --key KEY.pub");
       print_result(inst.install({args->target, {}, trusted, std::nullopt, {}}));
       return;

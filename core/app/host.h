@@ -137,6 +137,10 @@ class Host {
   skills::Manager& manager() { return *manager_; }
   skills::HostLoop& loop() { return *loop_; }
   devices::Body& body() { return *services_.body; }
+  // The personal data the skills use (it tells the reminder scheduler of changes), and the
+  // SQLite store behind it (null with in-memory data): what the web page changes and shows.
+  data::PersonalData& data() { return *services_.data; }
+  data::SqliteStore* store() { return store_.get(); }
   // The simulated home, with HostOptions::world_file; else nullptr.
   SimHome* sim_home() { return sim_home_.get(); }
 

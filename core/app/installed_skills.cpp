@@ -5,7 +5,10 @@
 #include <string>
 #include <system_error>
 
+#include <nlohmann/json.hpp>
+
 #include "skills/registry.h"
+#include "store/util.h"
 
 namespace marvin::app {
 
@@ -43,5 +46,17 @@ void validate_skill_for_host(const fs::path& staged_dir) {
 }
 
 fs::path reload_request_file(const fs::path& dir) { return dir / ".store" / "reload-request"; }
+
+std::vector<store::PublicKey> repository_keys(const std::filesystem::path& dir) {
+  std::vector<store::PublicKey> keys;
+  const std::filesystem::path file = dir / ".store" / "repositories.json";
+  if (!std::filesystem::exists(file)) return keys;
+  const nlohmann::json repos = nlohmann::json::parse(store::read_text_file(file));
+  for (auto it = repos.begin(); it != repos.end(); ++it) {
+    for (const auto& k : it->at("keys"))
+      keys.push_back(store::parse_public_key(k.get<std::string>(), "repositories.json"));
+  }
+  return keys;
+}
 
 }  // namespace marvin::app

@@ -6,6 +6,9 @@
 
 #include <filesystem>
 #include <optional>
+#include <vector>
+
+#include "store/minisign.h"
 
 namespace marvin::app {
 
@@ -26,5 +29,11 @@ void validate_skill_for_host(const std::filesystem::path& staged_dir);
 // <dir>/.store/reload-request: `marvin skills reload` rewrites it; a running host watching
 // `dir` reloads what changed there.
 std::filesystem::path reload_request_file(const std::filesystem::path& dir);
+
+// The keys a package file installed into `dir` may be signed with: those of the
+// repositories configured there (<dir>/.store/repositories.json, `marvin skill repo-add`).
+// Used by `marvin skill install FILE` and the web page's upload alike. Throws naming the file
+// when it is not valid.
+std::vector<store::PublicKey> repository_keys(const std::filesystem::path& dir);
 
 }  // namespace marvin::app

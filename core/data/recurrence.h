@@ -52,4 +52,10 @@ std::string format_local(std::int64_t utc_ms, std::string_view time_zone);
 // "once", "daily", "weekdays", "weekly mon,wed", "every 240 min 08:00-20:00".
 std::string describe(const Recurrence& recurrence);
 
+// How the carer writes a repeat (`marvin schedule add --repeat`, the web page's form):
+// once | daily | weekdays | weekly:mon,thu | every:MINUTES, with `window` "HH:MM-HH:MM"
+// (end exclusive) only for every:MINUTES. Throws std::runtime_error starting with the field
+// ("repeat: ...", "window: ...") and saying what was expected.
+Recurrence parse_repeat(std::string_view repeat, std::string_view window);
+
 }  // namespace marvin::data

@@ -1,0 +1,56 @@
+// The JSON API's operations (API.md), apart from the transport: login, sessions, CSRF and
+// live updates are the server's (web_server.cpp). Each operation calls the same core
+// function as the CLI: data::parse_repeat and local_to_utc_ms for reminders, the store's
+// add/list/remove, store::Installer for skills.
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "web/web_server.h"
+
+namespace marvin::web {
+
+struct ApiRequest {
+  std::string method;  // GET, POST, PUT, DELETE
+  std::string path;    // /api/reminders/3
+  std::map<std::string, std::string> query;
+  std::string body;
+  std::string signature;  // a skill upload's .minisig text (X-Marvin-Signature, base64)
+};
+
+struct ApiResponse {
+  unsigned status = 200;
+  nlohmann::json body;  // {"error": "..."} when status >= 400
+};
+
+class Api {
+ public:
+  Api(const WebOptions& options, data::PersonalData& data, data::SqliteStore& store, LiveFeed* feed)
+      : options_(options), data_(data), store_(store), feed_(feed) {}
+
+  ApiResponse handle(const ApiRequest& request);
+
+  // One event as the API shows it (also sent live).
+  nlohmann::json event_json(std::int64_t id, std::int64_t time_utc_ms, const std::string& kind,
+                            const std::string& source, const std::string& message) const;
+
+ private:
+  ApiResponse status();
+  ApiResponse reminders(const ApiRequest& r, const std::string& id);
+  ApiResponse contacts(const ApiRequest& r, const std::string& id);
+  ApiResponse skills(const ApiRequest& r, const std::string& id, const std::string& action);
+  ApiResponse install_skill(const ApiRequest& r);
+  ApiResponse events(const ApiRequest& r);
+
+  const WebOptions& options_;
+  data::PersonalData& data_;
+  data::SqliteStore& store_;
+  LiveFeed* feed_;
+};
+
+// "a%20b" -> "a b"; throws std::runtime_error on a bad escape.
+std::string url_decode(std::string_view text);
+
+}  // namespace marvin::web
