@@ -50,6 +50,9 @@ struct RunOptions {
   std::string mqtt;         // --mqtt HOST:PORT
   std::string home_config;  // --home-config FILE
   VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
+  bool no_phone = false;   // --no-phone
+  double phone_no_answer_s = 30;  // --phone-no-answer
+  int phone_port = 0;             // --phone-port (0: a free one)
 };
 
 // The smart home: --mqtt (a broker without authentication, e.g. scripts/sim's), else
@@ -97,6 +100,16 @@ HostOptions host_options(const RunOptions& o) {
   }
   h.camera = o.camera;  // empty with --sim: the simulated home's camera (Host)
   h.home = home_options(o.mqtt, o.home_config);
+  // --sim: a phone with a simulated other end (app/host_phone.h), unless --no-phone.
+  if (o.sim && !o.no_phone) {
+    PhoneOptions phone;
+    phone.settings.account_uri = "sip:marvin@127.0.0.1";
+    phone.settings.sip_port = o.phone_port;
+    phone.no_answer_timeout =
+        std::chrono::milliseconds(static_cast<std::int64_t>(o.phone_no_answer_s * 1000));
+    phone.simulated_people = sim::default_world_file().parent_path() / "phone.json";
+    h.phone = std::move(phone);
+  }
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
     try {
@@ -262,6 +275,15 @@ void install_skill_platform_commands(CLI::App& root) {
   run->add_option("--home-config", options->home_config,
                   "Smart home: the config file (default: $MARVIN_HOME_CONFIG, else "
                   "~/.config/marvin/home.json when it exists)");
+  run->add_flag("--no-phone", options->no_phone,
+                "With --sim: no phone (by default baresip calls a simulated other end)");
+  run->add_option("--phone-no-answer", options->phone_no_answer_s,
+                  "Seconds a call may ring before \"not answering\" (default 30)")
+      ->check(CLI::Range(0.5, 300.0));
+  run->add_option("--phone-port", options->phone_port,
+                  "With --sim: Marvin's SIP port on 127.0.0.1 (default: a free one; baresip "
+                  "also takes the port above it)")
+      ->check(CLI::Range(0, 65534));
   add_skill_options(*run, *options);
   add_voice_run_options(*run, options->voice);
   run->callback([options] { run_sim(*options); });

@@ -294,6 +294,7 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   loop_->attach(*manager_, registry_->interpreter());
   reloader_ = std::make_unique<SkillReloader>(*registry_);
   if (options_.home) start_home();
+  if (options_.phone) start_phone();
   // Skill timers (marvin.after) run on the loop, never while a long task runs.
   loop_->set_timers(skills::HostLoop::Timers{
       [this]() -> std::optional<std::int64_t> {
@@ -322,6 +323,7 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
 Host::~Host() {
   watcher_.reset();    // no reload requests from now on
   manager_.reset();    // joins a running task first
+  phone_.reset();      // announces through the loop, logs to the data
   home_link_.reset();
   home_.reset();       // says "offline" on the bus
   reminders_.reset();  // stops the scheduler's thread
@@ -403,6 +405,17 @@ void Host::start_home() {
     console_.line("[home: broker " + where + " not reachable after " +
                   std::to_string(kBrokerWait.count()) + " s; still trying]");
   }
+}
+
+void Host::start_phone() {
+  PhoneLinkHooks hooks;
+  hooks.announce = [this](const std::string& text) { loop_->say(text); };
+  hooks.log_event = [this](const std::string& kind, const std::string& text) {
+    data_->log_event(kind, "phone", text);
+    publish_event(kind, text);
+  };
+  phone_ = std::make_unique<HostPhone>(*options_.phone, *data_, std::move(hooks));
+  services_.telephone = phone_->link();
 }
 
 void Host::set_room_hook(std::function<std::string()> hook) {

@@ -7,8 +7,7 @@
 // permission and the skill. Schedules, contacts, people and storage are served from
 // PersonalData; light and motion go to the Body; say/ask to the User; the camera to Eyes;
 // going places to the navigator; smart home to the SmartHome service.
-// vision_find_object/who_is_there (1.0 placeholders) and phone answer
-// MARVIN_ERR_UNAVAILABLE until their issues land.
+// Phone calls go to the Telephone (API 1.3; the 1.0 phone_call dials through it too).
 //
 // Threading: a context is used by the one thread running its skill, except cancel(),
 // which any thread may call.
@@ -30,6 +29,7 @@
 #include "navigation/going_places.h"
 #include "skills/eyes.h"
 #include "skills/smart_home.h"
+#include "skills/telephone.h"
 #include "skills/user.h"
 
 namespace marvin::skills {
@@ -57,6 +57,8 @@ struct HostServices {
   // Smart-home devices over the home's broker (smarthome_*); null: none configured.
   // Called from skill threads: it must be thread-safe.
   SmartHome* smarthome = nullptr;
+  // The telephone (phone_*, API 1.3); null: none (MARVIN_ERR_UNAVAILABLE). Thread-safe.
+  Telephone* telephone = nullptr;
 };
 
 // The system clock in milliseconds since the Unix epoch.

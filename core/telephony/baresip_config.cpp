@@ -115,6 +115,16 @@ void write_baresip_config(const PhoneSettings& s, int sip_port, int ctrl_port,
   if (!s.auth_user.empty()) accounts << ";auth_user=" << s.auth_user;
   if (!s.auth_password.empty()) accounts << ";auth_pass=" << s.auth_password;
   accounts << ";answermode=" << (s.auto_answer ? "auto" : "manual") << "\n";
+  const std::string domain = s.account_uri.substr(s.account_uri.find('@'));
+  for (const std::string& user : s.answer_as) {
+    check_line(user, "answer as");
+    if (user.empty() || user.find_first_of("@: ") != std::string::npos) {
+      throw std::runtime_error("phone settings: answer as: '" + user +
+                               "' is not a SIP user name (no '@', ':' or spaces)");
+    }
+    accounts << "<sip:" << user << domain << ">;regint=0;answermode="
+             << (s.auto_answer ? "auto" : "manual") << "\n";
+  }
   if (!config || !accounts) {
     throw std::runtime_error("phone: cannot write baresip's configuration in " + dir.string());
   }

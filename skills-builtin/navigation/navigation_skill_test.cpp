@@ -59,5 +59,5 @@ TEST_CASE("the Robot API checks the permission before going anywhere") {
   CHECK(robot.actions().empty());
   marvin_text_out out{nullptr, 0, 0};
   CHECK(robot.api()->where_am_i(robot.host(), &out) == MARVIN_ERR_PERMISSION);
-  CHECK(robot.api()->minor == 2);
+  CHECK(robot.api()->minor >= 2);
 }
