@@ -1,6 +1,7 @@
 #include "skills/host_api.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstring>
 #include <exception>
@@ -603,7 +604,28 @@ marvin_status api_phone_resolve(marvin_host* host, const char* who, marvin_text_
     MARVIN_TRY(need_text(c, who, "who"));
     MARVIN_TRY(need_out(c, callee_json));
     MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
-    const telephony::Callee callee = telephony::resolve_callee(who, call_targets(*c.services().data));
+    const std::vector<telephony::CallTarget> targets = call_targets(*c.services().data);
+    telephony::Callee callee = telephony::resolve_callee(who, targets);
+    // A number said aloud that belongs to a contact is that contact: "Call Doctor Brown on
+    // 0123 456 789?", and announcements name them.
+    if (callee.kind == telephony::Callee::Kind::kNumber) {
+      auto digits = [](const std::string& text) {
+        std::string d;
+        for (char ch : text) {
+          if (std::isdigit(static_cast<unsigned char>(ch))) d += ch;
+        }
+        return d;
+      };
+      for (const telephony::CallTarget& t : targets) {
+        for (const std::string& n : t.numbers) {
+          if (n.rfind("sip:", 0) != 0 && digits(n) == digits(callee.number)) {
+            callee.kind = telephony::Callee::Kind::kContact;
+            callee.target = t;
+            callee.say = "Call " + t.name + " on " + callee.number + "?";
+          }
+        }
+      }
+    }
     static const char* kinds[] = {"contact", "number", "ambiguous", "no_number", "unknown"};
     std::string say = callee.say;
     // Nobody wants to hear a SIP address read out: "Call Anna Schmidt?".

@@ -60,6 +60,11 @@ TEST_CASE("ring the doctor (a phone number), phone Annie, call a number") {
   CHECK(h.intent_of("call 0123 456 789") == "phone/call");
   CHECK(h.say("call 0123 456 789", {"yes"}) ==
         Lines{"Call 0123 456 789?", "Ringing 0123 456 789.", "You're connected to 0123 456 789."});
+  h.say("hang up");
+  // The doctor's number said aloud is the doctor.
+  CHECK(h.say("call 0301 555 0100", {"yes"}) ==
+        Lines{"Call Doctor Brown on 0301 555 0100?", "Ringing Doctor Brown.",
+              "You're connected to Doctor Brown."});
 }
 
 TEST_CASE("busy, not answering, failed; no means no") {
