@@ -416,6 +416,11 @@ void Host::start_phone() {
   };
   phone_ = std::make_unique<HostPhone>(*options_.phone, *data_, std::move(hooks));
   services_.telephone = phone_->link();
+  // "Stop" during a call (no task running) hangs up, like "hang up".
+  manager_->on_idle_stop([link = phone_->link()]() -> std::string {
+    if (!link || !link->hang_up()) return {};
+    return "OK, I hung up.";
+  });
 }
 
 void Host::set_room_hook(std::function<std::string()> hook) {

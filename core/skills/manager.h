@@ -28,6 +28,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <condition_variable>
 #include <mutex>
 #include <optional>
@@ -57,6 +58,9 @@ class Manager : public User {
   void handle(std::string_view utterance);
   // Cancels the running task or dialogue and answers "OK.". Any thread.
   void stop();
+  // What "stop" also ends when no task runs (a phone call): the hook ends it and returns
+  // what to say instead of "OK.", or "" when there was nothing to end. Set before use.
+  void on_idle_stop(std::function<std::string()> hook) { idle_stop_ = std::move(hook); }
   // True while a long task runs on the worker.
   bool busy() const;
   // Waits until no long task runs; false if `timeout` passed first.
@@ -76,6 +80,7 @@ class Manager : public User {
   interpret::Context context() const;
 
  private:
+  std::function<std::string()> idle_stop_;
   bool fill_slots(const Manifest& manifest, const IntentDecl& intent, interpret::Match& match);
   bool confirm(const IntentDecl& intent, const interpret::Match& match);
   // "Did you want a reminder or your schedule?": the chosen reading, or nullopt after "no",
