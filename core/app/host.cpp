@@ -416,9 +416,10 @@ void Host::start_phone() {
   };
   phone_ = std::make_unique<HostPhone>(*options_.phone, *data_, std::move(hooks));
   services_.telephone = phone_->link();
-  // "Stop" during a call (no task running) hangs up, like "hang up".
-  manager_->on_idle_stop([link = phone_->link()]() -> std::string {
-    if (!link || !link->hang_up()) return {};
+  // "Stop" during a call hangs up, like "hang up", unless it stops another skill's task
+  // (the robot driving somewhere while the owner is on the phone).
+  manager_->on_stop([link = phone_->link()](const std::string& running) -> std::string {
+    if (!link || !(running.empty() || running == "phone") || !link->hang_up()) return {};
     return "OK, I hung up.";
   });
 }

@@ -146,8 +146,9 @@ void Manager::stop() {
   }
   if (running) running->context->cancel();
   user_.interrupt();
-  if (!running && idle_stop_) {
-    if (std::string ended = idle_stop_(); !ended.empty()) return say(ended);
+  if (stop_hook_) {
+    const std::string ended = stop_hook_(running ? running->manifest.id : std::string());
+    if (!running && !ended.empty()) return say(ended);
   }
   say(running ? "OK, I stopped." : "OK.");
 }

@@ -77,6 +77,9 @@ void write_baresip_config(const PhoneSettings& s, int sip_port, int ctrl_port,
   config << "# Written by Marvin at every start (core/telephony); edits are lost.\n"
          << "poll_method poll\n"
          << "sip_listen " << s.listen_address << ':' << sip_port << "\n"
+         // Loopback only: otherwise baresip offers the first network card's address for the
+         // call's audio (RTP), and the media would leave 127.0.0.1.
+         << (s.listen_address == "127.0.0.1" ? "net_interface 127.0.0.1\n" : "")
          << "sip_verify_server no\n"
          << "module_path " << s.module_path.string() << "\n"
          << "module g711.so\n";
