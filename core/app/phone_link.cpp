@@ -174,6 +174,12 @@ skills::Telephone::Reply PhoneLink::call_for_help(
     order.push_back({name, uri});
   }
   if (order.empty()) return {Result::kNotFound, "no emergency contact has a number to dial"};
+  // Help comes first: a call going on is ended (and its end awaited) before the sequence.
+  if (phone_->state() != CallState::kIdle && phone_->hang_up()) {
+    std::unique_lock lock(mutex_);
+    changed_.wait_for(lock, std::chrono::seconds(5),
+                      [&] { return phone_->state() == CallState::kIdle; });
+  }
   auto help = std::make_shared<telephony::EmergencyCall>(
       *phone_, std::move(order), [this](const std::string& text) { on_step(text); });
   std::shared_ptr<telephony::EmergencyCall> previous;
@@ -274,6 +280,7 @@ void PhoneLink::on_event(const PhoneEvent& event) {
         break;
     }
   }
+  changed_.notify_all();  // call_for_help() may wait for a call to end
   if (help) help->on_phone_event(event);
   if (!logged.first.empty() && hooks_.log_event) hooks_.log_event(logged.first, logged.second);
   if (!say.empty() && hooks_.announce) hooks_.announce(say);

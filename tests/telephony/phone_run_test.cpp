@@ -208,6 +208,22 @@ TEST_CASE("run --sim: call for help goes on past a busy contact; every step is l
                                            "Doctor Brown answered the emergency call"});
 }
 
+TEST_CASE("run --sim: call for help during a call ends that call first") {
+  test_support::TempDir data;
+  Marvin m(data);
+  m.say("phone Tom");
+  m.expect("Call Tom?");
+  m.say("yes");
+  m.expect("You're connected to Tom.");
+  m.say("help me");
+  m.expect("Calling Anna for help.");
+  m.expect("Anna answered the emergency call.");
+  m.expect("You're connected to Anna.");
+  m.say("hang up");
+  m.expect("OK, I hung up. The call with Anna has ended.");
+  CHECK(test_support::exit_code(m.process.finish()) == 0);
+}
+
 TEST_CASE("run --sim: a killed baresip is restarted and the next call works") {
   test_support::TempDir data;
   Marvin m(data);
