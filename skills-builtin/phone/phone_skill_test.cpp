@@ -151,3 +151,28 @@ TEST_CASE("bad input: no telephone, a refused registration, no emergency contact
   CHECK(h.say("call my daughter") == Lines{"I can't make the call: this robot has no telephone."});
   CHECK(h.robot().logged_events().empty());
 }
+
+TEST_CASE("the Robot API's phone calls need the 'phone' permission and change nothing without") {
+  marvin::testing::MockRobot robot("nophone", {"contacts"});
+  const marvin_robot_api* api = robot.api();
+  CHECK(api->minor >= 3);
+  CHECK(api->phone_dial(robot.host(), "sip:anna@127.0.0.1", "Anna") == MARVIN_ERR_PERMISSION);
+  CHECK(std::string(api->last_error(robot.host())) ==
+        "permission 'phone' is not granted to skill 'nophone'");
+  CHECK(api->phone_call_for_help(robot.host()) == MARVIN_ERR_PERMISSION);
+  CHECK(api->phone_call(robot.host(), "0123") == MARVIN_ERR_PERMISSION);
+  CHECK(robot.actions().empty());
+  CHECK(robot.phone_state() == "idle");
+  robot.set_permissions({"phone"});
+  CHECK(api->phone_dial(robot.host(), nullptr, "") == MARVIN_ERR_INVALID);
+  CHECK(std::string(api->last_error(robot.host())) == "number is NULL");
+  CHECK(api->phone_hang_up(robot.host()) == MARVIN_ERR_NOT_FOUND);
+  CHECK(std::string(api->last_error(robot.host())) == "there is no call to hang up");
+  char buffer[8];
+  marvin_text_out small{buffer, sizeof buffer, 0};
+  CHECK(api->phone_state(robot.host(), &small) == MARVIN_ERR_TRUNCATED);
+  // The 1.0 call dials for real since 1.3.
+  CHECK(api->phone_call(robot.host(), "0123 456") == MARVIN_OK);
+  CHECK(robot.actions() == Lines{"phone_dial 0123 456"});
+  CHECK(robot.phone_state() == "in_call");
+}
