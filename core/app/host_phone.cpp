@@ -69,6 +69,51 @@ std::string contact_name_for(const std::string& uri, const std::vector<data::Con
   return {};
 }
 
+telephony::PhoneSettings load_phone_config(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot read the phone configuration");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(file.string() + ": not JSON at byte " + std::to_string(e.byte));
+  }
+  auto fail = [&](const std::string& field, const std::string& what) -> std::runtime_error {
+    return std::runtime_error(file.string() + ": " + field + ": " + what);
+  };
+  if (!j.is_object()) throw fail("$", "expected an object");
+  auto text = [&](const char* field, bool required) -> std::string {
+    auto it = j.find(field);
+    if (it == j.end()) {
+      if (required) throw fail(field, "missing (expected a string)");
+      return {};
+    }
+    if (!it->is_string()) throw fail(field, "expected a string, got " + it->dump());
+    return it->get<std::string>();
+  };
+  telephony::PhoneSettings s;
+  s.account_uri = text("account", true);
+  if (s.account_uri.rfind("sip:", 0) != 0 || s.account_uri.find('@') == std::string::npos) {
+    throw fail("account", "expected a SIP address like sip:robot@sip.example.org, got \"" +
+                              s.account_uri + "\"");
+  }
+  s.registrar = text("registrar", false);
+  if (!s.registrar.empty() && s.registrar.rfind("sip:", 0) != 0) {
+    throw fail("registrar", "expected a SIP URI like sip:sip.example.org, got \"" +
+                                s.registrar + "\"");
+  }
+  s.auth_user = text("user", false);
+  s.auth_password = text("password", false);
+  if (std::string device = text("audio_device", false); !device.empty()) s.alsa_device = device;
+  if (auto it = j.find("sip_port"); it != j.end()) {
+    if (!it->is_number_integer() || it->get<int>() < 0 || it->get<int>() > 65534) {
+      throw fail("sip_port", "expected a port number 0..65534 (0: a free one), got " + it->dump());
+    }
+    s.sip_port = it->get<int>();
+  }
+  return s;
+}
+
 HostPhone::HostPhone(PhoneOptions options, data::PersonalData& data, PhoneLinkHooks hooks)
     : options_(std::move(options)) {
   // On stderr, not the transcript: the conversation stays the same with or without a phone.

@@ -54,6 +54,13 @@ class HostPhone {
   std::unique_ptr<PhoneLink> link_;
 };
 
+// The robot's own phone account, from a JSON file (`marvin run --phone-config FILE`):
+//   {"account": "sip:robot@sip.example.org", "registrar": "sip:sip.example.org",
+//    "user": "robot", "password": "...", "sip_port": 5060, "audio_device": "default"}
+// Only "account" is required (no registrar: peer to peer). Throws std::runtime_error
+// "<file>: <field>: <what was expected>" for a missing file, bad JSON or a bad field.
+telephony::PhoneSettings load_phone_config(const std::filesystem::path& file);
+
 // The contact name for a SIP address or number among `contacts` ("" when none).
 // "sip:anna@127.0.0.1:5062" matches a contact's "sip:anna@127.0.0.1" and "sip:anna@sim";
 // "sip:0301555@..." matches a phone number with those digits.

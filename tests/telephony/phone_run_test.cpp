@@ -243,6 +243,54 @@ TEST_CASE("run --sim: a killed baresip is restarted and the next call works") {
   CHECK(test_support::exit_code(m.process.finish()) == 0);
 }
 
+TEST_CASE("run --sim --phone-config: a refused registration is said, and calls say why not") {
+  test_support::TempDir dir;
+  test_support::TempDir data;
+  // A registrar that is a plain user agent: it does not accept REGISTER.
+  testing::TestPeer registrar(dir / "registrar", /*auto_answer=*/false, "registrar");
+  const std::string at = "127.0.0.1:" + std::to_string(registrar.ua().sip_port());
+  test_support::write_text(dir / "phone.json",
+                           R"({"account": "sip:marvin@)" + at + R"(", "registrar": "sip:)" + at +
+                               R"(", "user": "marvin", "password": "secret"})");
+  Marvin m(data, {"--phone-config", (dir / "phone.json").string()});
+  const std::string said = m.process.wait_for_line(
+      "the refusal", [](const std::string& line) {
+        return line.rfind("Marvin: I can't make phone calls: sip:", 0) == 0;
+      });
+  CHECK(said.find("refused the registration") != std::string::npos);
+  m.say("call my daughter");
+  m.expect("Call Anna?");
+  m.say("yes");
+  const std::string why = m.process.wait_for_line(
+      "the call refused", [](const std::string& line) {
+        return line.rfind("Marvin: I can't make the call: sip:", 0) == 0;
+      });
+  CHECK(why.find("refused the registration") != std::string::npos);
+  CHECK(test_support::exit_code(m.process.finish()) == 0);
+}
+
+TEST_CASE("run --phone-config: a malformed configuration names the file and the field") {
+  test_support::TempDir dir;
+  test_support::TempDir data;
+  test_support::write_text(dir / "phone.json", R"({"account": "robot@example.org"})");
+  test_support::ChildOptions o;
+  o.in = test_support::ChildStream::kNull;
+  ChildProcess run({marvin_exe(), "run", "--sim", "--data-dir", data.path().string(),
+                    "--phone-config", (dir / "phone.json").string()},
+                   o);
+  CHECK(test_support::exit_code(run.finish()) == 2);
+  CHECK(run.errors().find("--phone-config: " + (dir / "phone.json").string() +
+                          ": account: expected a SIP address like sip:robot@sip.example.org, "
+                          "got \"robot@example.org\"") != std::string::npos);
+  test_support::write_text(dir / "phone.json", R"({"account": "sip:r@x", "sip_port": "5060"})");
+  ChildProcess again({marvin_exe(), "run", "--sim", "--data-dir", data.path().string(),
+                      "--phone-config", (dir / "phone.json").string()},
+                     o);
+  CHECK(test_support::exit_code(again.finish()) == 2);
+  CHECK(again.errors().find("sip_port: expected a port number 0..65534 (0: a free one), got "
+                            "\"5060\"") != std::string::npos);
+}
+
 TEST_CASE("run --sim --no-phone: calls are refused in words") {
   test_support::TempDir data;
   Marvin m(data, {"--no-phone"});
