@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <initializer_list>
 
 #include <lua.hpp>
 
@@ -467,6 +468,110 @@ int l_home_set(lua_State* L) {
   return 1;
 }
 
+// --- phone calls (Robot API 1.3) -----------------------------------------------------------------
+
+// Pushes true, or false and the reason for the statuses a skill is expected to handle
+// (`soft`); raises a Lua error for the others.
+int push_done(lua_State* L, SkillContext* ctx, const char* what, marvin_status status,
+              std::initializer_list<marvin_status> soft) {
+  for (marvin_status s : soft) {
+    if (status == s) {
+      lua_pushboolean(L, 0);
+      lua_pushstring(L, ctx->api->last_error(ctx->host));
+      return 2;
+    }
+  }
+  check(L, ctx, what, status);
+  lua_pushboolean(L, 1);
+  return 1;
+}
+
+int l_phone_resolve(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* who = luaL_checkstring(L, 1);
+  require_permission(L, ctx, "phone", "phone.resolve");
+  need(L, ctx, ctx->api->phone_resolve != nullptr, "phone.resolve");
+  const marvin_status status = ctx->call_text(
+      [ctx, who](marvin_text_out* out) { return ctx->api->phone_resolve(ctx->host, who, out); });
+  check(L, ctx, "phone.resolve", status);
+  push_json_text(L, ctx, "phone.resolve");
+  return 1;
+}
+
+// phone.dial(number [, name]) -> true once dialling started, or false and why.
+int l_phone_dial(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* number = luaL_checkstring(L, 1);
+  const char* name = luaL_optstring(L, 2, "");
+  require_permission(L, ctx, "phone", "phone.dial");
+  need(L, ctx, ctx->api->phone_dial != nullptr, "phone.dial");
+  return push_done(L, ctx, "phone.dial", ctx->api->phone_dial(ctx->host, number, name),
+                   {MARVIN_ERR_UNAVAILABLE, MARVIN_ERR_INVALID});
+}
+
+int l_phone_hang_up(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "phone", "phone.hang_up");
+  need(L, ctx, ctx->api->phone_hang_up != nullptr, "phone.hang_up");
+  return push_done(L, ctx, "phone.hang_up", ctx->api->phone_hang_up(ctx->host),
+                   {MARVIN_ERR_NOT_FOUND});
+}
+
+int l_phone_answer(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "phone", "phone.answer");
+  need(L, ctx, ctx->api->phone_answer != nullptr, "phone.answer");
+  return push_done(L, ctx, "phone.answer", ctx->api->phone_answer(ctx->host),
+                   {MARVIN_ERR_NOT_FOUND});
+}
+
+int l_phone_decline(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "phone", "phone.decline");
+  need(L, ctx, ctx->api->phone_decline != nullptr, "phone.decline");
+  return push_done(L, ctx, "phone.decline", ctx->api->phone_decline(ctx->host),
+                   {MARVIN_ERR_NOT_FOUND});
+}
+
+int l_phone_state(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "phone", "phone.state");
+  need(L, ctx, ctx->api->phone_state != nullptr, "phone.state");
+  const marvin_status status = ctx->call_text(
+      [ctx](marvin_text_out* out) { return ctx->api->phone_state(ctx->host, out); });
+  check(L, ctx, "phone.state", status);
+  push_json_text(L, ctx, "phone.state");
+  return 1;
+}
+
+// phone.wait_event(timeout_ms) -> the event as a table, or nil when nothing happened.
+int l_phone_wait_event(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const lua_Integer ms = luaL_checkinteger(L, 1);
+  luaL_argcheck(L, ms >= 0 && ms <= 600000, 1, "milliseconds from 0 to 600000");
+  require_permission(L, ctx, "phone", "phone.wait_event");
+  need(L, ctx, ctx->api->phone_wait_event != nullptr, "phone.wait_event");
+  const auto timeout = static_cast<uint32_t>(ms);
+  const marvin_status status = ctx->call_text([ctx, timeout](marvin_text_out* out) {
+    return ctx->api->phone_wait_event(ctx->host, timeout, out);
+  });
+  if (status == MARVIN_ERR_NOT_FOUND) {
+    lua_pushnil(L);
+    return 1;
+  }
+  check(L, ctx, "phone.wait_event", status);
+  push_json_text(L, ctx, "phone.wait_event");
+  return 1;
+}
+
+int l_phone_call_for_help(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  require_permission(L, ctx, "phone", "phone.call_for_help");
+  need(L, ctx, ctx->api->phone_call_for_help != nullptr, "phone.call_for_help");
+  return push_done(L, ctx, "phone.call_for_help", ctx->api->phone_call_for_help(ctx->host),
+                   {MARVIN_ERR_NOT_FOUND, MARVIN_ERR_UNAVAILABLE});
+}
+
 // --- storage ------------------------------------------------------------------------------------------
 
 int l_storage_get(lua_State* L) {
@@ -718,6 +823,20 @@ void install_marvin_api(lua_State* L, SkillContext* ctx) {
   set_functions(L, home);
   Sandbox::make_read_only(L, "marvin.home");
   lua_setfield(L, -2, "home");
+
+  lua_createtable(L, 0, 8);
+  static const luaL_Reg phone[] = {{"resolve", l_phone_resolve},
+                                   {"dial", l_phone_dial},
+                                   {"hang_up", l_phone_hang_up},
+                                   {"answer", l_phone_answer},
+                                   {"decline", l_phone_decline},
+                                   {"state", l_phone_state},
+                                   {"wait_event", l_phone_wait_event},
+                                   {"call_for_help", l_phone_call_for_help},
+                                   {nullptr, nullptr}};
+  set_functions(L, phone);
+  Sandbox::make_read_only(L, "marvin.phone");
+  lua_setfield(L, -2, "phone");
 
   lua_createtable(L, 0, 3);
   static const luaL_Reg storage[] = {{"get", l_storage_get},

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -170,6 +171,60 @@ void install_data(CLI::App& root) {
       SqliteStore store = dir->open();
       std::printf("added contact %lld %s\n", static_cast<long long>(store.add_contact(*c)),
                   c->name.c_str());
+    });
+  }
+  {
+    // Each given option replaces that field (a repeatable one: the whole list); --clear-*
+    // empties a list; --emergency 0 makes it no emergency contact. Checked before anything
+    // is stored: a malformed field changes nothing.
+    struct Edit {
+      std::int64_t id = 0;
+      std::optional<std::string> name, relation;
+      std::optional<int> emergency;
+      std::vector<std::string> phones, sips, aliases;
+      bool clear_phones = false, clear_sips = false, clear_aliases = false;
+    };
+    auto* cmd = contacts.add_subcommand(
+        "edit", "Change a contact: name, numbers, SIP addresses, relation, nicknames, emergency");
+    auto dir = std::make_shared<DataDirOption>();
+    auto e = std::make_shared<Edit>();
+    cmd->add_option("ID", e->id, "Contact id (see `marvin contacts list`)")->required();
+    cmd->add_option("--name", e->name, "New full name");
+    auto* phone = cmd->add_option("--phone", e->phones, "Phone numbers (repeatable; replaces them)");
+    auto* sip = cmd->add_option("--sip", e->sips, "SIP addresses (repeatable; replaces them)");
+    auto* alias = cmd->add_option("--alias", e->aliases,
+                                  "Nicknames, e.g. \"my daughter\" (repeatable; replaces them)");
+    cmd->add_option("--relation", e->relation, "e.g. daughter, doctor (\"\" removes it)");
+    cmd->add_option("--emergency", e->emergency,
+                    "Order in which \"call for help\" tries this contact (0 = not at all)");
+    cmd->add_flag("--clear-phone", e->clear_phones, "Remove every phone number")->excludes(phone);
+    cmd->add_flag("--clear-sip", e->clear_sips, "Remove every SIP address")->excludes(sip);
+    cmd->add_flag("--clear-alias", e->clear_aliases, "Remove every nickname")->excludes(alias);
+    dir->add_to(*cmd);
+    cmd->callback([dir, e] {
+      SqliteStore store = dir->open();
+      std::optional<data::Contact> found;
+      for (data::Contact& c : store.list_contacts()) {
+        if (c.id == e->id) found = std::move(c);
+      }
+      if (!found) throw CliError("no contact with id " + std::to_string(e->id));
+      data::Contact c = *found;
+      if (e->name) c.name = *e->name;
+      if (e->relation) c.relation = *e->relation;
+      if (e->emergency) c.emergency_order = *e->emergency;
+      if (!e->phones.empty() || e->clear_phones) c.phone_numbers = e->phones;
+      if (!e->sips.empty() || e->clear_sips) c.sip_uris = e->sips;
+      if (!e->aliases.empty() || e->clear_aliases) c.aliases = e->aliases;
+      try {
+        if (!store.update_contact(c)) throw CliError("no contact with id " + std::to_string(e->id));
+      } catch (const CliError&) {
+        throw;
+      } catch (const std::exception& error) {
+        throw CliError("contacts edit " + std::to_string(e->id) + ": " + error.what() +
+                           "; nothing was changed",
+                       2);
+      }
+      std::printf("changed contact %lld %s\n", static_cast<long long>(c.id), c.name.c_str());
     });
   }
   {

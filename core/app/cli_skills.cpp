@@ -52,6 +52,10 @@ struct RunOptions {
   std::string home_config;  // --home-config FILE
   VoiceRunOptions voice;  // --audio-in/--audio-out, --wake-word; live without --sim
   WebRunOptions web;      // the carer's web page (app/web_run.h)
+  bool no_phone = false;   // --no-phone
+  double phone_no_answer_s = 30;  // --phone-no-answer
+  int phone_port = 0;             // --phone-port (0: a free one)
+  std::string phone_config;       // --phone-config FILE
 };
 
 // The smart home: --mqtt (a broker without authentication, e.g. scripts/sim's), else
@@ -99,6 +103,26 @@ HostOptions host_options(const RunOptions& o) {
   }
   h.camera = o.camera;  // empty with --sim: the simulated home's camera (Host)
   h.home = home_options(o.mqtt, o.home_config);
+  // --sim: a phone with a simulated other end (app/host_phone.h), unless --no-phone; the
+  // robot's own account from --phone-config (the real robot: its sound card).
+  if (!o.no_phone && (o.sim || !o.phone_config.empty())) {
+    PhoneOptions phone;
+    phone.settings.account_uri = "sip:marvin@127.0.0.1";
+    phone.settings.sip_port = o.phone_port;
+    if (!o.phone_config.empty()) {
+      try {
+        phone.settings = load_phone_config(o.phone_config);
+      } catch (const std::exception& e) {
+        throw CliError(std::string("--phone-config: ") + e.what(), 2);
+      }
+      if (o.phone_port != 0) phone.settings.sip_port = o.phone_port;
+      if (!o.sim) phone.settings.audio = telephony::PhoneSettings::Audio::kAlsa;
+    }
+    phone.no_answer_timeout =
+        std::chrono::milliseconds(static_cast<std::int64_t>(o.phone_no_answer_s * 1000));
+    if (o.sim) phone.simulated_people = sim::default_world_file().parent_path() / "phone.json";
+    h.phone = std::move(phone);
+  }
   h.time_zone = o.time_zone.empty() ? system_time_zone() : o.time_zone;
   if (!o.clock.empty()) {
     try {
@@ -280,6 +304,18 @@ void install_skill_platform_commands(CLI::App& root) {
   run->add_option("--home-config", options->home_config,
                   "Smart home: the config file (default: $MARVIN_HOME_CONFIG, else "
                   "~/.config/marvin/home.json when it exists)");
+  run->add_flag("--no-phone", options->no_phone,
+                "With --sim: no phone (by default baresip calls a simulated other end)");
+  run->add_option("--phone-no-answer", options->phone_no_answer_s,
+                  "Seconds a call may ring before \"not answering\" (default 30)")
+      ->check(CLI::Range(0.5, 300.0));
+  run->add_option("--phone-config", options->phone_config,
+                  "The robot's SIP account: JSON {\"account\", \"registrar\", \"user\", "
+                  "\"password\", \"sip_port\", \"audio_device\"} (app/host_phone.h)");
+  run->add_option("--phone-port", options->phone_port,
+                  "With --sim: Marvin's SIP port on 127.0.0.1 (default: a free one; baresip "
+                  "also takes the port above it)")
+      ->check(CLI::Range(0, 65534));
   add_skill_options(*run, *options);
   add_voice_run_options(*run, options->voice);
   add_web_run_options(*run, options->web);

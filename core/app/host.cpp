@@ -296,6 +296,7 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   reloader_ = std::make_unique<SkillReloader>(*registry_);
   wire_finding();
   if (options_.home) start_home();
+  if (options_.phone) start_phone();
   // Skill timers (marvin.after) run on the loop, never while a long task runs.
   loop_->set_timers(skills::HostLoop::Timers{
       [this]() -> std::optional<std::int64_t> {
@@ -325,6 +326,7 @@ Host::~Host() {
   watcher_.reset();    // no reload requests from now on
   guard_.reset();      // its thread looks through eyes_ and speaks through loop_
   manager_.reset();    // joins a running task first
+  phone_.reset();      // announces through the loop, logs to the data
   home_link_.reset();
   home_.reset();       // says "offline" on the bus
   reminders_.reset();  // stops the scheduler's thread
@@ -447,6 +449,23 @@ void Host::start_home() {
     console_.line("[home: broker " + where + " not reachable after " +
                   std::to_string(kBrokerWait.count()) + " s; still trying]");
   }
+}
+
+void Host::start_phone() {
+  PhoneLinkHooks hooks;
+  hooks.announce = [this](const std::string& text) { loop_->say(text); };
+  hooks.log_event = [this](const std::string& kind, const std::string& text) {
+    data_->log_event(kind, "phone", text);
+    publish_event(kind, text);
+  };
+  phone_ = std::make_unique<HostPhone>(*options_.phone, *data_, std::move(hooks));
+  services_.telephone = phone_->link();
+  // "Stop" during a call hangs up, like "hang up", unless it stops another skill's task
+  // (the robot driving somewhere while the owner is on the phone).
+  manager_->on_stop([link = phone_->link()](const std::string& running) -> std::string {
+    if (!link || !(running.empty() || running == "phone") || !link->hang_up()) return {};
+    return "OK, I hung up.";
+  });
 }
 
 void Host::set_room_hook(std::function<std::string()> hook) {

@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/host_phone.h"
 #include "devices/body.h"
 #include "home/config.h"
 #include "home/home_service.h"
@@ -96,6 +97,8 @@ struct HostOptions {
   // Smart home over the home's MQTT broker (core/home): devices for the skills, Marvin's
   // activity and events on the bus. nullopt: no smart home.
   std::optional<home::HomeConfig> home;
+  // The telephone (app/host_phone.h; the Robot API's phone calls): nullopt: none.
+  std::optional<PhoneOptions> phone;
 };
 
 // Where this build put its built-in skills (<build>/skills).
@@ -159,6 +162,8 @@ class Host {
   home::HomeService* home() { return home_.get(); }
   void set_room_hook(std::function<std::string()> hook);
   void publish_event(const std::string& event_type, const std::string& text);
+  // The telephone, when HostOptions::phone asked for one and baresip started; else null.
+  HostPhone* phone() { return phone_.get(); }
 
  private:
   void wire_finding();
@@ -189,6 +194,8 @@ class Host {
   std::unique_ptr<home::HomeService> home_;
   std::unique_ptr<HomeLink> home_link_;
   void start_home();
+  std::unique_ptr<HostPhone> phone_;
+  void start_phone();
   std::unique_ptr<SkillWatcher> watcher_;  // stopped first (declared last)
 };
 

@@ -495,6 +495,23 @@ std::vector<Contact> SqliteStore::list_contacts() {
   return load_contacts(db_, path_text_, "ORDER BY name, id");
 }
 
+bool SqliteStore::update_contact(const Contact& c) {
+  validate_contact(c);
+  std::lock_guard lock(mutex_);
+  Transaction tx(db_, path_text_);
+  Statement s(db_, path_text_,
+              "UPDATE contacts SET name = ?, relation = ?, emergency_order = ? WHERE id = ?");
+  s.bind(1, c.name).bind(2, c.relation).bind(3, std::int64_t{c.emergency_order}).bind(4, c.id).run();
+  if (sqlite3_changes(db_) == 0) return false;  // the transaction rolls back
+  for (const char* table : {"contact_aliases", "contact_phones", "contact_sip_uris"}) {
+    Statement d(db_, path_text_, std::string("DELETE FROM ") + table + " WHERE contact_id = ?");
+    d.bind(1, c.id).run();
+  }
+  insert_contact_lists(db_, path_text_, c.id, c);
+  tx.commit();
+  return true;
+}
+
 bool SqliteStore::remove_contact(std::int64_t id) {
   std::lock_guard lock(mutex_);
   Statement s(db_, path_text_, "DELETE FROM contacts WHERE id = ?");

@@ -97,6 +97,10 @@ class SqliteStore final : public PersonalData {
   std::vector<Contact> find_contacts(std::string_view name_or_alias) override;
   std::vector<Contact> list_contacts() override;
   bool remove_contact(std::int64_t id) override;
+  // Replaces every field of contact `contact.id` (`marvin contacts edit`). Throws naming
+  // the field when one is malformed, before anything changes; false when there is no
+  // contact with that id.
+  bool update_contact(const Contact& contact);
 
   std::vector<Person> list_people() override;
 

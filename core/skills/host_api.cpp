@@ -1,12 +1,14 @@
 #include "skills/host_api.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstring>
 #include <exception>
 
 #include "common/log.h"
 #include "skills/api_json.h"
+#include "telephony/callee.h"
 
 namespace marvin::skills {
 namespace {
@@ -506,14 +508,7 @@ int api_is_cancelled(marvin_host* host) {
   return host && SkillContext::from(host).cancelled() ? 1 : 0;
 }
 
-marvin_status unavailable(SkillContext& c, const char* permission, const char* what) {
-  MARVIN_TRY(need(c, permission));
-  return fail(c, MARVIN_ERR_UNAVAILABLE, std::string(what) + " is not available on this robot yet");
-}
 
-marvin_status api_phone_call(marvin_host* host, const char*) {
-  return guarded(host, [&](SkillContext& c) { return unavailable(c, "phone", "the phone"); });
-}
 marvin_status api_smarthome_set(marvin_host* host, const char* device, const char* state) {
   return guarded(host, [&](SkillContext& c) {
     MARVIN_TRY(need(c, "smarthome"));
@@ -567,6 +562,170 @@ marvin_status api_smarthome_devices(marvin_host* host, marvin_text_out* devices_
     MARVIN_TRY(need_out(c, devices_json));
     MARVIN_TRY(need_service(c, c.services().smarthome, "smart home connection configured"));
     return write_json(c, devices_json, c.services().smarthome->devices());
+  });
+}
+
+// --- since API 1.3: phone calls --------------------------------------------------------
+
+marvin_status need_phone(SkillContext& c) {
+  MARVIN_TRY(need(c, "phone"));
+  return need_service(c, c.services().telephone, "telephone");
+}
+
+marvin_status from_reply(SkillContext& c, const Telephone::Reply& reply) {
+  switch (reply.result) {
+    case Telephone::Result::kDone:
+      return MARVIN_OK;
+    case Telephone::Result::kInvalid:
+      return fail(c, MARVIN_ERR_INVALID, reply.sentence);
+    case Telephone::Result::kNotFound:
+      return fail(c, MARVIN_ERR_NOT_FOUND, reply.sentence);
+    case Telephone::Result::kUnavailable:
+      break;
+  }
+  return fail(c, MARVIN_ERR_UNAVAILABLE, reply.sentence);
+}
+
+// The contacts as the callee resolver sees them: phone numbers first, then SIP addresses.
+std::vector<telephony::CallTarget> call_targets(data::PersonalData& data) {
+  std::vector<telephony::CallTarget> out;
+  for (const data::Contact& contact : data.list_contacts()) {
+    telephony::CallTarget t{contact.name, contact.relation, contact.aliases,
+                            contact.phone_numbers};
+    t.numbers.insert(t.numbers.end(), contact.sip_uris.begin(), contact.sip_uris.end());
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+marvin_status api_phone_resolve(marvin_host* host, const char* who, marvin_text_out* callee_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_phone(c));
+    MARVIN_TRY(need_text(c, who, "who"));
+    MARVIN_TRY(need_out(c, callee_json));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    const std::vector<telephony::CallTarget> targets = call_targets(*c.services().data);
+    telephony::Callee callee = telephony::resolve_callee(who, targets);
+    // A number said aloud that belongs to a contact is that contact: "Call Doctor Brown on
+    // 0123 456 789?", and announcements name them.
+    if (callee.kind == telephony::Callee::Kind::kNumber) {
+      auto digits = [](const std::string& text) {
+        std::string d;
+        for (char ch : text) {
+          if (std::isdigit(static_cast<unsigned char>(ch))) d += ch;
+        }
+        return d;
+      };
+      for (const telephony::CallTarget& t : targets) {
+        for (const std::string& n : t.numbers) {
+          if (n.rfind("sip:", 0) != 0 && digits(n) == digits(callee.number)) {
+            callee.kind = telephony::Callee::Kind::kContact;
+            callee.target = t;
+            callee.say = "Call " + t.name + " on " + callee.number + "?";
+          }
+        }
+      }
+    }
+    static const char* kinds[] = {"contact", "number", "ambiguous", "no_number", "unknown"};
+    std::string say = callee.say;
+    // Nobody wants to hear a SIP address read out: "Call Anna Schmidt?".
+    if (callee.kind == telephony::Callee::Kind::kContact && callee.number.rfind("sip:", 0) == 0) {
+      say = "Call " + callee.target.name + "?";
+    }
+    return write_json(c, callee_json,
+                      json{{"kind", kinds[static_cast<int>(callee.kind)]},
+                           {"name", callee.target.name},
+                           {"number", callee.number},
+                           {"candidates", callee.candidates},
+                           {"say", say}});
+  });
+}
+
+marvin_status api_phone_dial(marvin_host* host, const char* number, const char* name) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_text(c, number, "number"));
+    MARVIN_TRY(need_phone(c));
+    return from_reply(c, c.services().telephone->dial(number, name ? name : ""));
+  });
+}
+
+// The 1.0 call: dials and returns.
+marvin_status api_phone_call(marvin_host* host, const char* number) {
+  return api_phone_dial(host, number, "");
+}
+
+marvin_status api_phone_hang_up(marvin_host* host) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_phone(c));
+    if (!c.services().telephone->hang_up()) {
+      return fail(c, MARVIN_ERR_NOT_FOUND, "there is no call to hang up");
+    }
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_phone_answer(marvin_host* host) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_phone(c));
+    if (!c.services().telephone->answer()) {
+      return fail(c, MARVIN_ERR_NOT_FOUND, "nobody is calling");
+    }
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_phone_decline(marvin_host* host) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_phone(c));
+    if (!c.services().telephone->decline()) {
+      return fail(c, MARVIN_ERR_NOT_FOUND, "nobody is calling");
+    }
+    return MARVIN_OK;
+  });
+}
+
+marvin_status api_phone_state(marvin_host* host, marvin_text_out* state_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_out(c, state_json));
+    MARVIN_TRY(need_phone(c));
+    return write_json(c, state_json, c.services().telephone->state());
+  });
+}
+
+marvin_status api_phone_wait_event(marvin_host* host, uint32_t timeout_ms,
+                                   marvin_text_out* event_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_out(c, event_json));
+    MARVIN_TRY(need_phone(c));
+    if (c.cancelled()) return fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
+    std::optional<json> event = c.services().telephone->wait_event(
+        std::chrono::milliseconds{timeout_ms}, [&] { return c.cancelled(); });
+    if (event) return write_json(c, event_json, *event);
+    if (c.cancelled()) return fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
+    return fail(c, MARVIN_ERR_NOT_FOUND,
+                "nothing happened on the phone within " + std::to_string(timeout_ms) + " ms");
+  });
+}
+
+marvin_status api_phone_call_for_help(marvin_host* host) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need_phone(c));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    std::vector<data::Contact> contacts = c.services().data->list_contacts();
+    std::stable_sort(contacts.begin(), contacts.end(), [](const auto& a, const auto& b) {
+      return a.emergency_order < b.emergency_order;
+    });
+    std::vector<std::pair<std::string, std::string>> order;
+    for (const data::Contact& contact : contacts) {
+      if (contact.emergency_order <= 0) continue;
+      const std::vector<std::string>& numbers =
+          contact.phone_numbers.empty() ? contact.sip_uris : contact.phone_numbers;
+      if (!numbers.empty()) order.emplace_back(contact.name, numbers.front());
+    }
+    if (order.empty()) {
+      return fail(c, MARVIN_ERR_NOT_FOUND, "there is no emergency contact with a number");
+    }
+    return from_reply(c, c.services().telephone->call_for_help(std::move(order)));
   });
 }
 
@@ -775,6 +934,14 @@ const marvin_robot_api* host_robot_api() {
     a.where_am_i = api_where_am_i;
     a.smarthome_devices = api_smarthome_devices;
     add_finding_api(a);
+    a.phone_resolve = api_phone_resolve;
+    a.phone_dial = api_phone_dial;
+    a.phone_hang_up = api_phone_hang_up;
+    a.phone_answer = api_phone_answer;
+    a.phone_decline = api_phone_decline;
+    a.phone_state = api_phone_state;
+    a.phone_wait_event = api_phone_wait_event;
+    a.phone_call_for_help = api_phone_call_for_help;
     return a;
   }();
   return &api;

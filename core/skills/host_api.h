@@ -7,8 +7,7 @@
 // permission and the skill. Schedules, contacts, people and storage are served from
 // PersonalData; light and motion go to the Body; say/ask to the User; the camera to Eyes;
 // going places to the navigator; smart home to the SmartHome service.
-// vision_find_object/who_is_there (1.0 placeholders) and phone answer
-// MARVIN_ERR_UNAVAILABLE until their issues land.
+// Phone calls go to the Telephone (API 1.3; the 1.0 phone_call dials through it too).
 //
 // Threading: a context is used by the one thread running its skill, except cancel(),
 // which any thread may call.
@@ -34,6 +33,7 @@
 #include "skills/guard.h"
 #include "skills/sightings.h"
 #include "skills/smart_home.h"
+#include "skills/telephone.h"
 #include "skills/user.h"
 
 namespace marvin::skills {
@@ -71,6 +71,8 @@ struct HostServices {
   };
   // The owner's event log, newest first, of a kind ("" all) since a time.
   std::function<std::vector<LoggedEvent>(std::string_view kind, std::int64_t since_ms)> events;
+  // The telephone (phone_*, API 1.3); null: none (MARVIN_ERR_UNAVAILABLE). Thread-safe.
+  Telephone* telephone = nullptr;
 };
 
 

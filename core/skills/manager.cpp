@@ -146,6 +146,10 @@ void Manager::stop() {
   }
   if (running) running->context->cancel();
   user_.interrupt();
+  if (stop_hook_) {
+    const std::string ended = stop_hook_(running ? running->manifest.id : std::string());
+    if (!running && !ended.empty()) return say(ended);
+  }
   say(running ? "OK, I stopped." : "OK.");
 }
 

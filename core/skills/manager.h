@@ -28,6 +28,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <condition_variable>
 #include <mutex>
 #include <optional>
@@ -57,6 +58,13 @@ class Manager : public User {
   void handle(std::string_view utterance);
   // Cancels the running task or dialogue and answers "OK.". Any thread.
   void stop();
+  // What "stop" also ends (a phone call): the hook gets the id of the skill whose task runs
+  // ("" when none), ends what it stands for and returns what to say instead of "OK."
+  // ("" when there was nothing to end; ignored while a task runs: "OK, I stopped.").
+  // Set before use.
+  void on_stop(std::function<std::string(const std::string& running_skill)> hook) {
+    stop_hook_ = std::move(hook);
+  }
   // True while a long task runs on the worker.
   bool busy() const;
   // Waits until no long task runs; false if `timeout` passed first.
@@ -76,6 +84,7 @@ class Manager : public User {
   interpret::Context context() const;
 
  private:
+  std::function<std::string(const std::string&)> stop_hook_;
   bool fill_slots(const Manifest& manifest, const IntentDecl& intent, interpret::Match& match);
   bool confirm(const IntentDecl& intent, const interpret::Match& match);
   // "Did you want a reminder or your schedule?": the chosen reading, or nullopt after "no",

@@ -77,6 +77,9 @@ void write_baresip_config(const PhoneSettings& s, int sip_port, int ctrl_port,
   config << "# Written by Marvin at every start (core/telephony); edits are lost.\n"
          << "poll_method poll\n"
          << "sip_listen " << s.listen_address << ':' << sip_port << "\n"
+         // Loopback only: otherwise baresip offers the first network card's address for the
+         // call's audio (RTP), and the media would leave 127.0.0.1.
+         << (s.listen_address == "127.0.0.1" ? "net_interface 127.0.0.1\n" : "")
          << "sip_verify_server no\n"
          << "module_path " << s.module_path.string() << "\n"
          << "module g711.so\n";
@@ -115,6 +118,16 @@ void write_baresip_config(const PhoneSettings& s, int sip_port, int ctrl_port,
   if (!s.auth_user.empty()) accounts << ";auth_user=" << s.auth_user;
   if (!s.auth_password.empty()) accounts << ";auth_pass=" << s.auth_password;
   accounts << ";answermode=" << (s.auto_answer ? "auto" : "manual") << "\n";
+  const std::string domain = s.account_uri.substr(s.account_uri.find('@'));
+  for (const std::string& user : s.answer_as) {
+    check_line(user, "answer as");
+    if (user.empty() || user.find_first_of("@: ") != std::string::npos) {
+      throw std::runtime_error("phone settings: answer as: '" + user +
+                               "' is not a SIP user name (no '@', ':' or spaces)");
+    }
+    accounts << "<sip:" << user << domain << ">;regint=0;answermode="
+             << (s.auto_answer ? "auto" : "manual") << "\n";
+  }
   if (!config || !accounts) {
     throw std::runtime_error("phone: cannot write baresip's configuration in " + dir.string());
   }

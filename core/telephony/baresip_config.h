@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace marvin::telephony {
 
@@ -38,6 +39,10 @@ struct PhoneSettings {
   std::string alsa_device = "default";
   // Answer every incoming call at once (the test peer; never the robot).
   bool auto_answer = false;
+  // More users this agent answers as, at the account's address (the simulated other end
+  // of `marvin run --sim`: "anna", "brown", "0123456789"); baresip refuses calls to users it
+  // has no account for (404).
+  std::vector<std::string> answer_as;
 
   std::filesystem::path baresip_program = "/usr/bin/baresip";
   std::filesystem::path module_path = "/usr/lib/baresip/modules";

@@ -36,6 +36,9 @@ MockRobot::Impl::Impl(std::string id, std::vector<std::string> permissions)
     }
     return out;
   };
+  phone.actions = &actions;
+  phone.data = &data;
+  services.telephone = &phone;
   context = std::make_unique<skills::SkillContext>(skill_id, std::move(permissions), services);
 }
 
@@ -62,6 +65,101 @@ std::vector<devices::ScanPoint> MockRobot::Impl::latest_scan() {
 }
 void MockRobot::Impl::set_light(devices::Light light) {
   actions.push_back(std::string("light ") + devices::to_string(light));
+}
+
+nlohmann::json FakePhone::event(const std::string& kind) const {
+  return nlohmann::json{{"event", kind}, {"number", number}, {"name", name.empty() ? number : name}};
+}
+
+std::string FakePhone::outcome_of(const std::string& n) const {
+  auto it = outcomes.find(n);
+  return it == outcomes.end() ? "answer" : it->second;
+}
+
+skills::Telephone::Reply FakePhone::dial(const std::string& n, const std::string& who) {
+  if (!failure.empty()) return {Result::kUnavailable, failure};
+  if (n.empty() || n.find_first_not_of(" ") == std::string::npos) {
+    return {Result::kInvalid, "number: \"" + n + "\" is neither a phone number nor a sip: URI"};
+  }
+  if (call_state != "idle") {
+    return {Result::kUnavailable, "a call with " + (name.empty() ? number : name) + " is going on"};
+  }
+  actions->push_back("phone_dial " + n);
+  number = n;
+  name = who;
+  events.clear();
+  const std::string outcome = outcome_of(n);
+  if (outcome == "fail") {
+    events.push_back(event("failed"));
+    events.back()["reason"] = "503 Service Unavailable";
+    return {};
+  }
+  events.push_back(event("ringing"));
+  if (outcome == "answer") {
+    events.push_back(event("answered"));
+    call_state = "in_call";
+  } else {
+    events.push_back(event(outcome == "busy" ? "busy" : "no_answer"));
+  }
+  return {};
+}
+
+bool FakePhone::hang_up() {
+  if (call_state == "idle") return false;
+  actions->push_back(call_state == "incoming" ? "phone_decline" : "phone_hang_up");
+  call_state = "idle";
+  return true;
+}
+
+bool FakePhone::answer() {
+  if (call_state != "incoming") return false;
+  actions->push_back("phone_answer");
+  call_state = "in_call";
+  return true;
+}
+
+bool FakePhone::decline() { return call_state == "incoming" && hang_up(); }
+
+nlohmann::json FakePhone::state() {
+  if (call_state == "idle") return {{"state", "idle"}, {"number", ""}, {"name", ""}};
+  return {{"state", call_state}, {"number", number}, {"name", name.empty() ? number : name}};
+}
+
+std::optional<nlohmann::json> FakePhone::wait_event(std::chrono::milliseconds,
+                                                    const std::function<bool()>& stop) {
+  // Nothing runs meanwhile: an empty queue stays empty (as if the time ran out).
+  if (stop() || events.empty()) return std::nullopt;
+  nlohmann::json e = events.front();
+  events.pop_front();
+  return e;
+}
+
+skills::Telephone::Reply FakePhone::call_for_help(
+    std::vector<std::pair<std::string, std::string>> contacts) {
+  if (!failure.empty()) return {Result::kUnavailable, failure};
+  actions->push_back("phone_call_for_help");
+  events.clear();
+  auto step = [&](const std::string& text) {
+    data->log_event("emergency", "phone", text);
+    events.push_back({{"event", "emergency_step"}, {"text", text}});
+  };
+  std::string answered_by;
+  for (const auto& [who, n] : contacts) {
+    step("Calling " + who + " for help");
+    const std::string outcome = outcome_of(n);
+    if (outcome == "answer") {
+      answered_by = who;
+      number = n;
+      name = who;
+      call_state = "in_call";
+      step(who + " answered the emergency call");
+      break;
+    }
+    step(who + " did not answer (" + (outcome == "no_answer" ? "no answer" : outcome) + ")");
+  }
+  if (answered_by.empty()) step("Nobody answered the emergency call");
+  events.push_back({{"event", "emergency_done"}, {"answered_by", answered_by}});
+  return {};
 }
 
 namespace {
@@ -212,6 +310,30 @@ void MockRobot::set_device_answers(const std::string& id, bool answers) {
   if (!answers) silent.push_back(id);
 }
 void MockRobot::set_broker_reachable(bool reachable) { impl_->home.reachable = reachable; }
+
+void MockRobot::set_call_outcome(const std::string& number, const std::string& outcome) {
+  impl_->phone.outcomes[number] = outcome;
+}
+void MockRobot::incoming_call(const std::string& number, const std::string& name) {
+  impl_->phone.call_state = "incoming";
+  impl_->phone.number = number;
+  impl_->phone.name = name;
+}
+void MockRobot::remote_hang_up() { impl_->phone.call_state = "idle"; }
+void MockRobot::set_phone_failure(std::string reason) { impl_->phone.failure = std::move(reason); }
+void MockRobot::set_phone_available(bool available) {
+  impl_->services.telephone = available ? &impl_->phone : nullptr;
+}
+std::string MockRobot::phone_state() const { return impl_->phone.state()["state"]; }
+std::vector<std::string> MockRobot::logged_events() const {
+  std::vector<std::string> out;
+  for (const auto& e : impl_->data.events()) out.push_back(e.kind + ": " + e.message);
+  return out;
+}
+std::int64_t MockRobot::add_contact_json(const std::string& contact_json) {
+  data::Contact c = skills::contact_from_json(nlohmann::json::parse(contact_json));
+  return impl_->data.add_contact(c);
+}
 std::optional<std::string> MockRobot::device(const std::string& id) const {
   for (const nlohmann::json& d : impl_->home.list) {
     if (d["id"] == id) return d.dump();

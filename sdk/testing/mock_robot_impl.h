@@ -28,6 +28,30 @@ struct FakeHome : skills::SmartHome {
   std::vector<std::string>* actions = nullptr;
 };
 
+// The scripted telephone: every call ends at once as the test said (answer by default);
+// its events wait in a queue for phone_wait_event.
+struct FakePhone : skills::Telephone {
+  Reply dial(const std::string& number, const std::string& name) override;
+  bool hang_up() override;
+  bool answer() override;
+  bool decline() override;
+  nlohmann::json state() override;
+  std::optional<nlohmann::json> wait_event(std::chrono::milliseconds timeout,
+                                           const std::function<bool()>& stop) override;
+  Reply call_for_help(std::vector<std::pair<std::string, std::string>> contacts) override;
+
+  std::string outcome_of(const std::string& number) const;
+  nlohmann::json event(const std::string& kind) const;
+
+  std::map<std::string, std::string> outcomes;  // number -> answer|busy|no_answer|fail
+  std::string failure;                          // non-empty: dial fails with it
+  std::string call_state = "idle";
+  std::string number, name;
+  std::deque<nlohmann::json> events;
+  std::vector<std::string>* actions = nullptr;
+  skills::InMemoryPersonalData* data = nullptr;
+};
+
 struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   Impl(std::string skill_id, std::vector<std::string> permissions);
 
@@ -70,6 +94,7 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   skills::InMemorySightingLog sightings{[this] { return now_ms; }};
   std::unique_ptr<skills::Guard> guard;
   std::vector<skills::HostServices::LoggedEvent> events;
+  FakePhone phone;
 };
 
 }  // namespace marvin::testing

@@ -28,6 +28,8 @@ struct FakeRobot {
   std::int64_t* clock_ms = nullptr;      // the test's fake steady clock, moved by ask()
   bool cancelled = false;
   std::string last_error;
+  bool in_call = false;
+  std::vector<std::string> phone_events;
   std::string room = "hall";  // where_am_i; go_to("kitchen") moves here, go_to("garden") fails
 
   marvin_host* host() { return reinterpret_cast<marvin_host*>(this); }
@@ -163,6 +165,44 @@ struct FakeRobot {
           r.last_error = "the fan did not report the new state within 3000 ms";
           return MARVIN_ERR_UNAVAILABLE;
         }
+        return MARVIN_OK;
+      };
+      // Phone: every call is answered at once; "0000" cannot be called.
+      t.phone_resolve = [](marvin_host* h, const char* who, marvin_text_out* out) {
+        FakeRobot& r = of(h);
+        if (marvin_status s = r.deny_unless("phone")) return s;
+        return write(out, std::string(R"({"kind":"contact","name":")") + who +
+                              R"(","number":"sip:anna@127.0.0.1","say":"Call )" + who + "?\"}");
+      };
+      t.phone_dial = [](marvin_host* h, const char* number, const char* name) {
+        FakeRobot& r = of(h);
+        if (marvin_status s = r.deny_unless("phone")) return s;
+        if (std::string(number) == "0000") {
+          r.last_error = "number: \"0000\" cannot be dialled";
+          return MARVIN_ERR_INVALID;
+        }
+        r.actions.push_back(std::string("phone.dial ") + number + " " + name);
+        r.in_call = true;
+        r.phone_events = {R"({"event":"ringing"})", R"({"event":"answered"})"};
+        return MARVIN_OK;
+      };
+      t.phone_wait_event = [](marvin_host* h, uint32_t, marvin_text_out* out) {
+        FakeRobot& r = of(h);
+        if (marvin_status s = r.deny_unless("phone")) return s;
+        if (r.phone_events.empty()) return MARVIN_ERR_NOT_FOUND;
+        std::string e = r.phone_events.front();
+        r.phone_events.erase(r.phone_events.begin());
+        return write(out, e);
+      };
+      t.phone_hang_up = [](marvin_host* h) {
+        FakeRobot& r = of(h);
+        if (marvin_status s = r.deny_unless("phone")) return s;
+        if (!r.in_call) {
+          r.last_error = "there is no call to hang up";
+          return MARVIN_ERR_NOT_FOUND;
+        }
+        r.in_call = false;
+        r.actions.push_back("phone.hang_up");
         return MARVIN_OK;
       };
       return t;

@@ -104,6 +104,38 @@ marvin.on("go", function() marvin.home.set("lamp", "on") end)
   CHECK(denied.robot.actions.empty());
 }
 
+TEST_CASE("marvin.phone: resolve, dial, the call's events, hang up; false and why") {
+  Loaded s("caller", R"(
+marvin.on("go", function()
+  local who = marvin.phone.resolve("my daughter")
+  marvin.say(who.say)
+  marvin.say(tostring(marvin.phone.dial(who.number, who.name)))
+  local e = marvin.phone.wait_event(1000)
+  while e do
+    marvin.say(e.event)
+    e = marvin.phone.wait_event(1000)
+  end
+  marvin.say(tostring(marvin.phone.hang_up()))
+  local ok, why = marvin.phone.hang_up()
+  marvin.say(tostring(ok) .. ", " .. why)
+  ok, why = marvin.phone.dial("0000")
+  marvin.say(tostring(ok) .. ", " .. why)
+end)
+)", {"go"}, {"phone"});
+  CHECK(s.handle("go", "{}") == MARVIN_OK);
+  CHECK(s.robot.said == std::vector<std::string>{"Call my daughter?", "true", "ringing",
+                                                 "answered", "true",
+                                                 "false, there is no call to hang up",
+                                                 "false, number: \"0000\" cannot be dialled"});
+  CHECK(s.robot.actions == std::vector<std::string>{"phone.dial sip:anna@127.0.0.1 my daughter",
+                                                    "phone.hang_up"});
+  Loaded denied("nophone", R"(
+marvin.on("go", function() marvin.phone.dial("0123") end)
+)", {"go"});
+  CHECK(denied.handle("go", "{}") != MARVIN_OK);
+  CHECK(denied.robot.actions.empty());
+}
+
 TEST_CASE("loading reports the file and line, and intents without handlers") {
   TempDir dir;
   FakeRobot robot;

@@ -20,6 +20,7 @@
 
  *   "smarthome" smarthome_set, smarthome_devices (API 1.2)
  *   "events"    events_list (API 1.3): the owner's event log (who came while out)
+ *   "phone"     phone_call, phone_* (API 1.3)
  *   "vision", "phone"                 the capabilities of later releases
  * Calls without the permission fail with MARVIN_ERR_PERMISSION and change nothing.
  *
@@ -269,6 +270,52 @@ typedef struct marvin_robot_api {
    * "events". */
   marvin_status (*events_list)(marvin_host* host, const char* kind, int64_t since_unix_ms,
                                marvin_text_out* events_json);
+  /* --- since API 1.3: phone calls -------------------------------------------------
+   * Permission "phone". Check struct_size (or minor) before calling these on an older
+   * host. A robot without a telephone answers MARVIN_ERR_UNAVAILABLE. One call at a time.
+   * The 1.0 phone_call(host, number) is real since 1.3: it dials like phone_dial and
+   * returns at once. Calls the robot places and their progress are the calling skill's to
+   * speak (it reads them with phone_wait_event); the host itself announces incoming calls
+   * ("Anna is calling"), a call the other side ended and the steps of a call for help,
+   * and logs every call for help in the event log. */
+  /* Who `who` means, as heard: "my daughter", "the doctor", "Anna", "0123 456 789",
+   * "sip:anna@example.org". Writes {"kind": "contact"|"number"|"ambiguous"|"no_number"|
+   * "unknown", "name", "number" (what phone_dial takes), "candidates": ["Anna Schmidt",
+   * ...], "say": the confirmation question ("Call Anna Schmidt on 0123 456?") or what to
+   * tell the user ("I have no number for Tom.")}. Reads the contacts (no "contacts"
+   * permission needed: "phone" covers it). */
+  marvin_status (*phone_resolve)(marvin_host* host, const char* who, marvin_text_out* callee_json);
+  /* Starts a call to `number` (a phone number or a sip: URI; `name`, may be "", is who the
+   * host names in announcements). Returns once dialling started; the progress comes from
+   * phone_wait_event. MARVIN_ERR_INVALID for something that is no number;
+   * MARVIN_ERR_UNAVAILABLE when a call is already going on or the telephone cannot call
+   * (last_error says which: "a call with Anna is going on", "the phone is not running"). */
+  marvin_status (*phone_dial)(marvin_host* host, const char* number, const char* name);
+  /* Ends the current call or declines the ringing incoming one; MARVIN_ERR_NOT_FOUND when
+   * there is none. */
+  marvin_status (*phone_hang_up)(marvin_host* host);
+  /* Answers the ringing incoming call; MARVIN_ERR_NOT_FOUND when nobody is calling. */
+  marvin_status (*phone_answer)(marvin_host* host);
+  /* Declines the ringing incoming call; MARVIN_ERR_NOT_FOUND when nobody is calling. */
+  marvin_status (*phone_decline)(marvin_host* host);
+  /* The call now: {"state": "idle"|"calling"|"ringing"|"in_call"|"incoming",
+   * "number": "<the other side>", "name": "<their contact name, or the number>"}. */
+  marvin_status (*phone_state)(marvin_host* host, marvin_text_out* state_json);
+  /* Waits up to `timeout_ms` for the next event of the call this skill placed (or the
+   * call for help it started) and writes it:
+   *   {"event": "ringing"|"answered"|"busy"|"no_answer"|"ended"|"failed"|
+   *             "emergency_step"|"emergency_done", "name", "number",
+   *    "reason": SIP's words for "failed"/"ended", "text": the sentence of an
+   *    emergency_step, "answered_by": "<name>" or "" (nobody) for emergency_done}.
+   * MARVIN_ERR_NOT_FOUND when nothing happened in time; MARVIN_ERR_CANCELLED when the user
+   * said "stop" (the call goes on: hang up if that is what "stop" means). */
+  marvin_status (*phone_wait_event)(marvin_host* host, uint32_t timeout_ms,
+                                    marvin_text_out* event_json);
+  /* "Call for help": no question asked; calls the emergency contacts in their order
+   * (`marvin contacts add --emergency N`) until one answers, logging each step. Returns
+   * once the sequence started; its steps come from phone_wait_event. MARVIN_ERR_NOT_FOUND
+   * when there is no emergency contact with a number. */
+  marvin_status (*phone_call_for_help)(marvin_host* host);
 } marvin_robot_api;
 
 #ifdef __cplusplus

@@ -181,6 +181,44 @@ class Robot {
     auto call = fn(&marvin_robot_api::smarthome_devices, "smarthome_devices");
     return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
   }
+  // Phone calls (Robot API 1.3; see marvin/robot.h). Who "my daughter" / "Anna" /
+  // "0123 456 789" means: {"kind", "name", "number", "candidates", "say"}.
+  nlohmann::json phone_resolve(std::string_view who) {
+    std::string w = str(who);
+    auto call = fn(&marvin_robot_api::phone_resolve, "phone_resolve");
+    return nlohmann::json::parse(
+        text([&](marvin_text_out* out) { return call(host_, w.c_str(), out); }));
+  }
+  // Starts a call; the progress comes from phone_wait_event().
+  void phone_dial(std::string_view number, std::string_view name = {}) {
+    std::string n = str(number);
+    std::string who = str(name);
+    check(fn(&marvin_robot_api::phone_dial, "phone_dial")(host_, n.c_str(), who.c_str()));
+  }
+  void phone_hang_up() { check(fn(&marvin_robot_api::phone_hang_up, "phone_hang_up")(host_)); }
+  void phone_answer() { check(fn(&marvin_robot_api::phone_answer, "phone_answer")(host_)); }
+  void phone_decline() { check(fn(&marvin_robot_api::phone_decline, "phone_decline")(host_)); }
+  // {"state", "number", "name"}.
+  nlohmann::json phone_state() {
+    auto call = fn(&marvin_robot_api::phone_state, "phone_state");
+    return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
+  }
+  // The next event of the call this skill placed; nullopt when nothing happened within
+  // `timeout`. Throws Error(MARVIN_ERR_CANCELLED) when the user said "stop".
+  std::optional<nlohmann::json> phone_wait_event(std::chrono::milliseconds timeout) {
+    auto call = fn(&marvin_robot_api::phone_wait_event, "phone_wait_event");
+    const auto ms = static_cast<std::uint32_t>(timeout.count());
+    try {
+      return nlohmann::json::parse(
+          text([&](marvin_text_out* out) { return call(host_, ms, out); }));
+    } catch (const Error& e) {
+      if (e.status() == MARVIN_ERR_NOT_FOUND) return std::nullopt;
+      throw;
+    }
+  }
+  void phone_call_for_help() {
+    check(fn(&marvin_robot_api::phone_call_for_help, "phone_call_for_help")(host_));
+  }
   nlohmann::json contacts_find(std::string_view name) {
     std::string n = str(name);
     auto call = fn(&marvin_robot_api::contacts_find, "contacts_find");

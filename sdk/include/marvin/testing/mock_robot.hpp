@@ -101,6 +101,28 @@ class MockRobot {
   void add_device(const std::string& device_json);
   void set_device_answers(const std::string& id, bool answers);
   void set_broker_reachable(bool reachable);
+  // Phone calls (API 1.3). A call to `number` (as dialled: the contact's number or sip:
+  // URI) ends as `outcome`: "answer" (the default), "busy", "no_answer" or "fail"; its
+  // events are queued at once (phone_wait_event never waits). actions() records
+  // "phone_dial <number>", "phone_hang_up", "phone_answer", "phone_decline",
+  // "phone_call_for_help".
+  void set_call_outcome(const std::string& number, const std::string& outcome);
+  // Someone calls: phone_state() is "incoming" from `number` until answered or declined.
+  void incoming_call(const std::string& number, const std::string& name = "");
+  // The other side ended the call.
+  void remote_hang_up();
+  // The telephone cannot call from now on (phone_dial: MARVIN_ERR_UNAVAILABLE, `reason`).
+  void set_phone_failure(std::string reason);
+  // false: the robot has no telephone at all (phone_*: MARVIN_ERR_UNAVAILABLE).
+  void set_phone_available(bool available);
+  // "idle", "ringing", "in_call", "incoming".
+  std::string phone_state() const;
+  // The event log, "kind: message" ("emergency: Calling Anna for help").
+  std::vector<std::string> logged_events() const;
+  // A contact as contacts_add takes it ({"name", "aliases", "relation", "phone_numbers",
+  // "sip_uris", "emergency_order"}); returns its id. Throws naming a malformed field.
+  std::int64_t add_contact_json(const std::string& contact_json);
+
   // The device's current state as JSON text; nullopt for an unknown id.
   std::optional<std::string> device(const std::string& id) const;
 

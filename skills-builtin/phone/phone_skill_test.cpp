@@ -1,0 +1,178 @@
+// The phone skill with the MockRobot's scripted telephone: what it says and what it dials.
+// (Real calls between two baresip user agents: tests/telephony, and `marvin run --sim` in
+// tests/telephony/phone_run_test.cpp.)
+#include <doctest/doctest.h>
+
+#include <marvin/testing/mock_robot.hpp>
+#include <marvin/testing/skill_harness.hpp>
+
+using Lines = std::vector<std::string>;
+
+namespace {
+
+void contacts(marvin::testing::SkillHarness& h) {
+  auto& r = h.robot();
+  r.add_contact_json(R"({"name": "Anna Schmidt", "relation": "daughter", "aliases": ["Annie"],
+                         "sip_uris": ["sip:anna@127.0.0.1"], "emergency_order": 1})");
+  r.add_contact_json(R"({"name": "Doctor Brown", "relation": "doctor",
+                         "phone_numbers": ["0301 555 0100"], "emergency_order": 2})");
+  r.add_contact_json(R"({"name": "Tom Schmidt", "relation": "son"})");
+  r.add_contact_json(R"({"name": "Anna Berg", "relation": "neighbour",
+                         "sip_uris": ["sip:berg@127.0.0.1"]})");
+}
+
+Lines dialled(marvin::testing::SkillHarness& h) {
+  Lines out;
+  for (const std::string& a : h.robot().actions()) {
+    if (a.rfind("phone_", 0) == 0) out.push_back(a);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("call my daughter: confirm, ringing, connected; hang up ends the call") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  CHECK(h.intent_of("call my daughter") == "phone/call");
+  CHECK(h.say("call my daughter", {"yes"}) ==
+        Lines{"Call Anna Schmidt?", "Ringing Anna Schmidt.", "You're connected to Anna Schmidt."});
+  CHECK(dialled(h) == Lines{"phone_dial sip:anna@127.0.0.1"});
+  CHECK(h.robot().phone_state() == "in_call");
+  CHECK(h.intent_of("hang up") == "phone/hang_up");
+  CHECK(h.say("hang up") == Lines{"OK, I hung up. The call with Anna Schmidt has ended."});
+  CHECK(h.robot().phone_state() == "idle");
+  CHECK(h.say("hang up") == Lines{"There is no call to hang up."});
+}
+
+TEST_CASE("ring the doctor (a phone number), phone Annie, call a number") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  CHECK(h.intent_of("ring the doctor") == "phone/call");
+  CHECK(h.say("ring the doctor", {"yes please"}).front() ==
+        "Call Doctor Brown on 0301 555 0100?");
+  CHECK(dialled(h) == Lines{"phone_dial 0301 555 0100"});
+  h.say("end the call");
+  h.robot().clear();
+  CHECK(h.say("phone Annie", {"yes"}).back() == "You're connected to Anna Schmidt.");
+  h.say("hang up");
+  h.robot().clear();
+  CHECK(h.intent_of("call 0123 456 789") == "phone/call");
+  CHECK(h.say("call 0123 456 789", {"yes"}) ==
+        Lines{"Call 0123 456 789?", "Ringing 0123 456 789.", "You're connected to 0123 456 789."});
+  h.say("hang up");
+  // The doctor's number said aloud is the doctor.
+  CHECK(h.say("call 0301 555 0100", {"yes"}) ==
+        Lines{"Call Doctor Brown on 0301 555 0100?", "Ringing Doctor Brown.",
+              "You're connected to Doctor Brown."});
+}
+
+TEST_CASE("busy, not answering, failed; no means no") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  h.robot().set_call_outcome("sip:anna@127.0.0.1", "busy");
+  CHECK(h.say("call my daughter", {"yes"}).back() ==
+        "The line is busy. Anna Schmidt can't take the call now.");
+  CHECK(h.robot().phone_state() == "idle");
+  h.robot().set_call_outcome("sip:anna@127.0.0.1", "no_answer");
+  CHECK(h.say("call my daughter", {"yes"}).back() == "Anna Schmidt is not answering.");
+  h.robot().set_call_outcome("sip:anna@127.0.0.1", "fail");
+  CHECK(h.say("call my daughter", {"yes"}).back() ==
+        "I couldn't reach Anna Schmidt (503 Service Unavailable).");
+  h.robot().clear();
+  CHECK(h.say("call my daughter", {"no"}) == Lines{"Call Anna Schmidt?", "OK, I won't call."});
+  CHECK(dialled(h).empty());
+}
+
+TEST_CASE("two Annas: asks which; unknown people and contacts without a number") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  CHECK(h.say("call Anna", {"Anna Berg", "yes"}) ==
+        Lines{"Do you mean Anna Schmidt or Anna Berg?", "Call Anna Berg?", "Ringing Anna Berg.",
+              "You're connected to Anna Berg."});
+  h.say("hang up");
+  h.robot().clear();
+  CHECK(h.say("call Anna", {"the doctor"}) ==
+        Lines{"Do you mean Anna Schmidt or Anna Berg?", "Sorry, I still don't know whom you mean."});
+  // Slots arrive as heard, in lower case (the voice does not care).
+  CHECK(h.say("call Fred") == Lines{"I don't know anyone called fred."});
+  CHECK(h.say("call my son") == Lines{"I have no number for Tom Schmidt."});
+  CHECK(dialled(h).empty());
+}
+
+TEST_CASE("incoming call: answer, decline; nobody calling") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  CHECK(h.say("answer") == Lines{"Nobody is calling."});
+  h.robot().incoming_call("sip:anna@127.0.0.1", "Anna Schmidt");
+  CHECK(h.intent_of("answer the call") == "phone/answer");
+  CHECK(h.say("answer the call") == Lines{"You're connected to Anna Schmidt."});
+  CHECK(h.robot().phone_state() == "in_call");
+  h.robot().remote_hang_up();
+  h.robot().incoming_call("sip:0301555@127.0.0.1");
+  CHECK(h.intent_of("decline") == "phone/decline");
+  CHECK(h.say("decline") == Lines{"I declined the call from sip:0301555@127.0.0.1."});
+  CHECK(h.robot().phone_state() == "idle");
+  CHECK(dialled(h) == Lines{"phone_answer", "phone_decline"});
+}
+
+TEST_CASE("call for help: no question, the emergency contacts in order, each step logged") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  h.robot().set_call_outcome("sip:anna@127.0.0.1", "no_answer");
+  CHECK(h.intent_of("call for help") == "phone/emergency");
+  CHECK(h.intent_of("help me") == "phone/emergency");
+  CHECK(h.say("call for help") ==
+        Lines{"Calling Anna Schmidt for help.", "Anna Schmidt did not answer (no answer).",
+              "Calling Doctor Brown for help.", "Doctor Brown answered the emergency call.",
+              "You're connected to Doctor Brown."});
+  CHECK(h.robot().asked().empty());
+  CHECK(h.robot().logged_events() ==
+        Lines{"emergency: Calling Anna Schmidt for help",
+              "emergency: Anna Schmidt did not answer (no answer)",
+              "emergency: Calling Doctor Brown for help",
+              "emergency: Doctor Brown answered the emergency call"});
+  h.say("hang up");
+  h.robot().set_call_outcome("0301 555 0100", "busy");
+  CHECK(h.say("emergency").back() == "Nobody answered the emergency call.");
+}
+
+TEST_CASE("bad input: no telephone, a refused registration, no emergency contact") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  CHECK(h.say("call for help") ==
+        Lines{"I have no emergency contact to call. Add one with marvin contacts add "
+              "--emergency 1."});
+  contacts(h);
+  h.robot().set_phone_failure("sip.example.org refused the registration (403 Forbidden)");
+  CHECK(h.say("call my daughter", {"yes"}).back() ==
+        "I can't make the call: sip.example.org refused the registration (403 Forbidden).");
+  CHECK(h.robot().phone_state() == "idle");
+  h.robot().set_phone_available(false);
+  CHECK(h.say("call my daughter") == Lines{"I can't make the call: this robot has no telephone."});
+  CHECK(h.robot().logged_events().empty());
+}
+
+TEST_CASE("the Robot API's phone calls need the 'phone' permission and change nothing without") {
+  marvin::testing::MockRobot robot("nophone", {"contacts"});
+  const marvin_robot_api* api = robot.api();
+  CHECK(api->minor >= 3);
+  CHECK(api->phone_dial(robot.host(), "sip:anna@127.0.0.1", "Anna") == MARVIN_ERR_PERMISSION);
+  CHECK(std::string(api->last_error(robot.host())) ==
+        "permission 'phone' is not granted to skill 'nophone'");
+  CHECK(api->phone_call_for_help(robot.host()) == MARVIN_ERR_PERMISSION);
+  CHECK(api->phone_call(robot.host(), "0123") == MARVIN_ERR_PERMISSION);
+  CHECK(robot.actions().empty());
+  CHECK(robot.phone_state() == "idle");
+  robot.set_permissions({"phone"});
+  CHECK(api->phone_dial(robot.host(), nullptr, "") == MARVIN_ERR_INVALID);
+  CHECK(std::string(api->last_error(robot.host())) == "number is NULL");
+  CHECK(api->phone_hang_up(robot.host()) == MARVIN_ERR_NOT_FOUND);
+  CHECK(std::string(api->last_error(robot.host())) == "there is no call to hang up");
+  char buffer[8];
+  marvin_text_out small{buffer, sizeof buffer, 0};
+  CHECK(api->phone_state(robot.host(), &small) == MARVIN_ERR_TRUNCATED);
+  // The 1.0 call dials for real since 1.3.
+  CHECK(api->phone_call(robot.host(), "0123 456") == MARVIN_OK);
+  CHECK(robot.actions() == Lines{"phone_dial 0123 456"});
+  CHECK(robot.phone_state() == "in_call");
+}
