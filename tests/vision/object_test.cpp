@@ -185,6 +185,7 @@ TEST_CASE("vision_look reports the COCO things in view with the names people use
   for (const auto& o : seen["objects"]) labels.push_back(o["label"]);
   CHECK(std::find(labels.begin(), labels.end(), "bicycle") != labels.end());
   CHECK(std::find(labels.begin(), labels.end(), "dog") != labels.end());
+  REQUIRE(!labels.empty());
   const auto& first = seen["objects"][0];
   CHECK(first["class"] == "bicycle");
   CHECK(first["box"].size() == 4);
