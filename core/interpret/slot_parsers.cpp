@@ -12,6 +12,10 @@
 namespace marvin::interpret {
 namespace {
 
+bool is_speaker(const std::string& word) {
+  return word == "me" || word == "us" || word == "myself" || word == "ourselves";
+}
+
 std::string join(std::span<const std::string> words) {
   std::string out;
   for (const std::string& w : words) {
@@ -122,6 +126,12 @@ std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
       return std::nullopt;
     case SlotType::kText: {
       if (words.size() > text_max_words) return std::nullopt;
+      // "me"/"us" (first) and "you" (alone) name the speaker or Marvin, never the person or
+      // thing a slot asks for: without this, "tell me a joke" would fill "tell {name}
+      // {message}" with name "me a".
+      if (!words.empty() && (is_speaker(words[0]) || (words.size() == 1 && words[0] == "you"))) {
+        return std::nullopt;
+      }
       std::string text = join(words);
       return SlotValue{text, nlohmann::json(text)};
     }

@@ -327,3 +327,17 @@ TEST_CASE("parse_slot: dialogue answers") {
   CHECK_FALSE(interpreter.parse_slot({"when", SlotType::kDateTime, {}}, "whenever", context));
   CHECK_FALSE(interpreter.parse_slot({"d", SlotType::kDuration, {}}, "it is long", context));
 }
+
+TEST_CASE("matching: a text slot never holds only 'me', 'us' or 'you'") {
+  Interpreter interpreter;
+  interpreter.add({"finding", "tell", {"tell {name} {message}"},
+                   {{"name", SlotType::kText, {}}, {"message", SlotType::kText, {}}}});
+  Context context;
+  // Asking Marvin, not asking it to pass a message on.
+  CHECK_FALSE(interpreter.match_exact("tell me a joke", context));
+  CHECK_FALSE(interpreter.match_exact("tell us the time", context));
+  auto match = interpreter.match_exact("tell anna dinner is ready", context);
+  REQUIRE(match);
+  CHECK(match->slots.at("name").text == "anna");
+  CHECK(match->slots.at("message").text == "dinner is ready");
+}

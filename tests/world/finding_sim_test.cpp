@@ -33,9 +33,11 @@ void enrol_anna(ChildProcess& marvin) {
 
 }  // namespace
 
-// Skipped: since object detection joined every look (the merge of issue 17's NanoDet), this
-// scenario no longer finds Anna or the bedroom's stranger reliably in `run --sim`; the finding
-// skill's logic stays covered by its MockRobot tests. Issue 22 stays open until it passes again.
+// Skipped: in the merged build (every look now also runs the COCO detector) this scenario
+// fails about half the runs, at a different step each time (Anna not seen in the living room,
+// the bedroom's stranger not reported, Anna not reached with the message); it passed on the
+// finding branch alone. The finding skill's logic stays covered by its MockRobot tests; issue
+// 22 stays open until this passes every time (run it with --no-skip).
 TEST_CASE("run --sim: find Anna from the kitchen, then from memory; who is in the bedroom" *
           doctest::skip(true)) {
   marvin::test_support::TempDir dir;
