@@ -137,12 +137,13 @@ HostPhone::HostPhone(PhoneOptions options, data::PersonalData& data, PhoneLinkHo
   try {
     if (!options_.simulated_people.empty()) {
       start_simulated_peer(data);
-      const int port = peer_->sip_port();
+      // Its port is read at each call: it changes when another program took it (baresip.h).
+      telephony::Baresip* peer = peer_.get();
       // "@sim" and numbers dialled at Marvin's own address go to the simulated other end.
-      hooks.route = [port](const std::string& uri) {
+      hooks.route = [peer](const std::string& uri) {
         SipParts p = parts(uri);
         if (p.host == kSimHost || (p.host == "127.0.0.1" && p.port.empty())) {
-          return "sip:" + p.user + "@127.0.0.1:" + std::to_string(port);
+          return "sip:" + p.user + "@127.0.0.1:" + std::to_string(peer->sip_port());
         }
         return uri;
       };

@@ -27,6 +27,12 @@ namespace {
 constexpr std::string_view kReadyBanner = "baresip is ready.";
 constexpr std::size_t kTailBytes = 4096;
 constexpr const char* kProbeToken = "marvin-ready";
+// What baresip 1.0 prints when another program holds a port it was told to bind (it then
+// exits with status 98, EADDRINUSE, for SIP; it runs on without a control socket for
+// ctrl_tcp).
+constexpr std::string_view kSipPortTaken = "SIP Transport failed: Address already in use";
+constexpr std::string_view kCtrlPortTaken = "ctrl_tcp: failed to listen";
+constexpr int kExitAddressInUse = 98;
 
 void log_phone(LogLevel level, const std::string& message) { log(level, "phone", message); }
 
@@ -49,9 +55,7 @@ Baresip::Baresip(PhoneSettings settings, std::filesystem::path config_dir, Event
 Baresip::~Baresip() { stop(); }
 
 void Baresip::start() {
-  sip_port_ = settings_.sip_port != 0 ? settings_.sip_port : pick_free_port(true);
-  ctrl_port_ = pick_free_port();
-  write_baresip_config(settings_, sip_port_, ctrl_port_, config_dir_);
+  choose_ports();
   if (::pipe2(wake_pipe_, O_CLOEXEC | O_NONBLOCK) != 0) {
     throw std::runtime_error("phone: cannot create a pipe: " + std::string(std::strerror(errno)));
   }
@@ -60,6 +64,17 @@ void Baresip::start() {
     spawn();
   }
   thread_ = std::thread([this] { run(); });
+}
+
+void Baresip::choose_ports() {
+  sip_port_ = settings_.sip_port != 0 ? settings_.sip_port : choose_port_(true);
+  ctrl_port_ = choose_port_(false);
+  write_baresip_config(settings_, sip_port_, ctrl_port_, config_dir_);
+}
+
+bool Baresip::ports_lost() const {
+  return output_tail_.find(kSipPortTaken) != std::string::npos ||
+         output_tail_.find(kCtrlPortTaken) != std::string::npos;
 }
 
 void Baresip::spawn() {
@@ -151,6 +166,11 @@ int Baresip::restarts() const {
   return restarts_;
 }
 
+int Baresip::port_changes() const {
+  std::lock_guard lock(mutex_);
+  return port_changes_;
+}
+
 CommandResult Baresip::command(const std::string& name, const std::string& params,
                                std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
@@ -227,9 +247,50 @@ void Baresip::on_child_exit() {
   log_phone(LogLevel::kWarning, "baresip (pid " + std::to_string(pid_) + ") " + how +
                                     (was_ready ? "; restarting" : "; output: " + output_tail_));
   pid_ = -1;
+  if (!was_ready && new_ports_after_loss(status)) {
+    restart_at_ = std::chrono::steady_clock::now();
+    return;
+  }
   const bool quick_death = !was_ready;
   restart_at_ = std::chrono::steady_clock::now() +
                 (quick_death ? std::chrono::milliseconds(1000) : std::chrono::milliseconds(0));
+}
+
+bool Baresip::new_ports_after_loss(int status) {
+  // Another program took a port between our choice and baresip's bind (seen when two test
+  // runs share a machine): the same ports would fail forever, so choose again.
+  const bool sip_lost =
+      output_tail_.find(kSipPortTaken) != std::string::npos ||
+      (WIFEXITED(status) && WEXITSTATUS(status) == kExitAddressInUse);
+  const bool ctrl_lost = output_tail_.find(kCtrlPortTaken) != std::string::npos;
+  const bool sip_ours = settings_.sip_port == 0;  // a configured port is the user's
+  if (!(ctrl_lost || (sip_lost && sip_ours)) || port_retries_left_ <= 0) return false;
+  const int old_sip = sip_port_;
+  const int old_ctrl = ctrl_port_;
+  try {
+    if (sip_lost && sip_ours) sip_port_ = choose_port_(true);
+    if (ctrl_lost) ctrl_port_ = choose_port_(false);
+    write_baresip_config(settings_, sip_port_, ctrl_port_, config_dir_);
+  } catch (const std::exception& e) {
+    log_phone(LogLevel::kError, std::string("cannot choose new ports: ") + e.what());
+    return false;
+  }
+  --port_retries_left_;
+  ++port_changes_;
+  std::string what;
+  if (sip_lost && sip_ours) {
+    what = "SIP port " + std::to_string(old_sip) + " is taken by another program; now port " +
+           std::to_string(sip_port_);
+  }
+  if (ctrl_lost) {
+    what += (what.empty() ? "" : "; ") + std::string("control port ") +
+            std::to_string(old_ctrl) + " is taken by another program; now port " +
+            std::to_string(ctrl_port_);
+  }
+  log_phone(LogLevel::kWarning,
+            what + " (new ports " + std::to_string(kMaxPortRetries - port_retries_left_) +
+                " of at most " + std::to_string(kMaxPortRetries) + ")");
+  return true;
 }
 
 void Baresip::run() {
@@ -245,8 +306,14 @@ void Baresip::run() {
         if (now >= *restart_at_) {
           restart_at_.reset();
           try {
+            const bool new_ports = port_changes_ != port_changes_counted_;
             spawn();
-            ++restarts_;
+            // A child that lost its ports never served anyone: not a restart of the service.
+            if (new_ports) {
+              port_changes_counted_ = port_changes_;
+            } else {
+              ++restarts_;
+            }
           } catch (const std::exception& e) {
             log_phone(LogLevel::kError, e.what());
             restart_at_ = now + std::chrono::seconds(1);
@@ -274,7 +341,13 @@ void Baresip::run() {
       const ssize_t n = ::read(out_fd_, buffer, sizeof buffer);
       if (n > 0) {
         output_tail_.append(buffer, static_cast<std::size_t>(n));
-        if (!ready_ && control_fd_ < 0 && output_tail_.find(kReadyBanner) != std::string::npos) {
+        if (!ready_ && ports_lost() && pid_ > 0) {
+          // Without its control socket (or SIP) this child is of no use: end it, and
+          // on_child_exit chooses new ports.
+          ::kill(pid_, SIGKILL);
+        }
+        if (!ready_ && control_fd_ < 0 && !ports_lost() &&
+            output_tail_.find(kReadyBanner) != std::string::npos) {
           connect_control();
           output_tail_.clear();
         }
@@ -329,6 +402,7 @@ void Baresip::handle_frame(const std::string& payload) {
       if (!ready_ && control_fd_ >= 0) {
         ready_ = true;
         child_was_ready_ = true;
+        port_retries_left_ = kMaxPortRetries;
         changed_.notify_all();
         lock.unlock();
         if (on_event_) on_event_({"MARVIN_READY", "marvin", "", "", "", ""});
