@@ -712,8 +712,6 @@ int l_look_around(lua_State* L) {
   need(L, ctx, MARVIN_HAS_SLOT(ctx, look_around), "finding.look_around");
   Sandbox* sb = ctx->sandbox.get();
   sb->pause_clock();  // the body's time is not the script's
-  // Room for any answer at once: a retry after MARVIN_ERR_TRUNCATED would turn a second circle.
-  ctx->text.reserve(std::size_t{1} << 20);
   const marvin_status status = ctx->call_text(
       [ctx, stops](marvin_text_out* out) { return ctx->api->look_around(ctx->host, stops, out); });
   sb->resume_clock();

@@ -67,6 +67,8 @@ struct SkillContext {
   }
 
   // Calls `call(out)` with a growing text buffer until the text fits; leaves it in `text`.
+  // Retrying an acting call (look_around, ask, ...) does not act twice: the host keeps the
+  // answer that did not fit for the retry (marvin/abi.h, marvin_text_out).
   template <typename Call>
   marvin_status call_text(Call call) noexcept {
     try {

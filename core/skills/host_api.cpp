@@ -22,6 +22,7 @@ marvin_status guarded(marvin_host* host, F&& body) {
   if (!host) return MARVIN_ERR_INVALID;
   SkillContext& c = SkillContext::from(host);
   c.last_error.clear();
+  c.kept_answer().count_call();
   try {
     return body(c);
   } catch (const std::exception& e) {
@@ -865,6 +866,7 @@ void SkillContext::begin_request() {
   std::lock_guard lock(mutex_);
   cancelled_.store(false);
   last_error.clear();
+  kept_answer_.clear();
 }
 
 void SkillContext::cancel() {
@@ -883,11 +885,16 @@ bool SkillContext::wait_cancelled_for(std::uint32_t ms) {
 marvin_status write_text(marvin_text_out* out, std::string_view text) {
   if (!out) return MARVIN_ERR_INVALID;
   out->length = text.size();
-  if (!out->data || out->capacity == 0) return MARVIN_ERR_TRUNCATED;
+  if (!out->data || out->capacity == 0) {
+    note_truncated(out, text);  // an acting call keeps its answer for the retry
+    return MARVIN_ERR_TRUNCATED;
+  }
   std::size_t n = std::min(text.size(), out->capacity - 1);
   std::memcpy(out->data, text.data(), n);
   out->data[n] = '\0';
-  return n == text.size() ? MARVIN_OK : MARVIN_ERR_TRUNCATED;
+  if (n == text.size()) return MARVIN_OK;
+  note_truncated(out, text);  // an acting call keeps its answer for the retry
+  return MARVIN_ERR_TRUNCATED;
 }
 
 const marvin_robot_api* host_robot_api() {
@@ -942,6 +949,7 @@ const marvin_robot_api* host_robot_api() {
     a.phone_state = api_phone_state;
     a.phone_wait_event = api_phone_wait_event;
     a.phone_call_for_help = api_phone_call_for_help;
+    keep_answers_of_acting_calls(a);
     return a;
   }();
   return &api;

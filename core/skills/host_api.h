@@ -31,6 +31,7 @@
 #include "navigation/going_places.h"
 #include "skills/eyes.h"
 #include "skills/guard.h"
+#include "skills/kept_answer.h"
 #include "skills/sightings.h"
 #include "skills/smart_home.h"
 #include "skills/telephone.h"
@@ -107,6 +108,8 @@ class SkillContext {
 
   // The sentence for api->last_error(); set by the table's functions.
   std::string last_error;
+  // An acting call's answer kept for the skill's retry (kept_answer.h).
+  KeptAnswer& kept_answer() { return kept_answer_; }
 
  private:
   std::string skill_id_;
@@ -115,6 +118,7 @@ class SkillContext {
   std::atomic<bool> cancelled_{false};
   std::mutex mutex_;
   std::condition_variable wake_;
+  KeptAnswer kept_answer_;
 };
 
 // The table every native skill of this host receives. Static; valid for the process.

@@ -43,7 +43,15 @@ typedef enum marvin_status {
 /* A caller-owned output buffer for text the callee returns. The callee writes at most
  * `capacity` bytes including the NUL and always sets `length` to the full length of the
  * text (without NUL). When the text did not fit it returns MARVIN_ERR_TRUNCATED and the
- * caller may retry with a buffer of at least length + 1 bytes. */
+ * caller may retry with a buffer of at least length + 1 bytes.
+ *
+ * Calls that act and write text (ask, schedule_add, contacts_add, vision_capture_photo,
+ * vision_enroll_face, look_around, guard, phone_wait_event) do not act twice for such a
+ * retry: the host keeps the answer that did not fit, and the skill's very next Robot API
+ * call, if it is the same function with the same arguments, gets the kept answer without
+ * acting again. Any other call in between (last_error and is_cancelled excepted), or the
+ * next request, drops the kept answer; the same call after that acts again. Since host
+ * API 1.3; the ABI is unchanged (no new function, field or status). */
 typedef struct marvin_text_out {
   char* data;
   size_t capacity;

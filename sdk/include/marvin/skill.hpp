@@ -281,7 +281,7 @@ class Robot {
   nlohmann::json look_around(std::uint32_t stops = 0) {
     auto call = fn(&marvin_robot_api::look_around, "look_around");
     return nlohmann::json::parse(
-        text([&](marvin_text_out* out) { return call(host_, stops, out); }, 1 << 20));
+        text([&](marvin_text_out* out) { return call(host_, stops, out); }));
   }
   // Where `what` ("" for everything) was seen, newest first: [{"what", "kind", "room",
   // "near", "seen_unix_ms"}].
@@ -393,11 +393,12 @@ class Robot {
   }
 
   // Calls a function writing text into a caller-owned buffer, retrying once with a buffer
-  // of the size the host reported when the first was too small. Calls that act (turn the
-  // robot, ...) pass a first buffer large enough for any answer: a retry would act twice.
+  // of the size the host reported when the first was too small. The retry of a call that
+  // acts (turns the robot, adds a reminder, ...) does not act again: the host kept the
+  // answer for it (marvin/abi.h, marvin_text_out).
   template <class Call>
-  std::string text(Call&& call, std::size_t first_size = 512) const {
-    std::string buffer(first_size, '\0');
+  std::string text(Call&& call) const {
+    std::string buffer(512, '\0');
     marvin_text_out out{buffer.data(), buffer.size(), 0};
     marvin_status s = call(&out);
     if (s == MARVIN_ERR_TRUNCATED) {
