@@ -163,44 +163,38 @@ class PhoneSkill : public marvin::Skill {
     return name.empty() ? state.value("number", "") : name;
   }
 
-  void hang_up() {
+  // "hang up", "answer", "decline": `act` on the call now; says `nothing` when there is no
+  // such call (MARVIN_ERR_NOT_FOUND), else what `done` makes of the other side's name.
+  template <class Act, class Done>
+  void on_the_call(Act act, const char* nothing, Done done) {
     json state;
     if (!phone([&] { state = robot().phone_state(); })) return;
     try {
-      robot().phone_hang_up();
+      act();
     } catch (const marvin::Error& e) {
       if (e.status() != MARVIN_ERR_NOT_FOUND) throw;
-      robot().say("There is no call to hang up.");
+      robot().say(nothing);
       return;
     }
-    const std::string who = who_of(state);
-    robot().say(who.empty() ? "OK, I hung up." : "OK, I hung up. The call with " + who + " has ended.");
+    robot().say(done(who_of(state)));
+  }
+
+  void hang_up() {
+    on_the_call([&] { robot().phone_hang_up(); }, "There is no call to hang up.",
+                [](const std::string& who) {
+                  return who.empty() ? "OK, I hung up."
+                                     : "OK, I hung up. The call with " + who + " has ended.";
+                });
   }
 
   void answer() {
-    json state;
-    if (!phone([&] { state = robot().phone_state(); })) return;
-    try {
-      robot().phone_answer();
-    } catch (const marvin::Error& e) {
-      if (e.status() != MARVIN_ERR_NOT_FOUND) throw;
-      robot().say("Nobody is calling.");
-      return;
-    }
-    robot().say("You're connected to " + who_of(state) + ".");
+    on_the_call([&] { robot().phone_answer(); }, "Nobody is calling.",
+                [](const std::string& who) { return "You're connected to " + who + "."; });
   }
 
   void decline() {
-    json state;
-    if (!phone([&] { state = robot().phone_state(); })) return;
-    try {
-      robot().phone_decline();
-    } catch (const marvin::Error& e) {
-      if (e.status() != MARVIN_ERR_NOT_FOUND) throw;
-      robot().say("Nobody is calling.");
-      return;
-    }
-    robot().say("I declined the call from " + who_of(state) + ".");
+    on_the_call([&] { robot().phone_decline(); }, "Nobody is calling.",
+                [](const std::string& who) { return "I declined the call from " + who + "."; });
   }
 
   void call_for_help() {
