@@ -29,28 +29,53 @@ struct MarvinPhone {
   std::optional<PhoneEvent> wait(Kind kind, std::chrono::milliseconds timeout = kWait) {
     return events.wait([&](const PhoneEvent& e) { return e.kind == kind; }, &seen, timeout);
   }
+  // The next "ended" event; the test stops when none comes.
+  PhoneEvent wait_ended() {
+    const auto ended = wait(Kind::kEnded);
+    REQUIRE(ended);
+    return *ended;
+  }
   std::string uri() { return phone.baresip().settings().account_uri; }
   EventLog<PhoneEvent> events;
   std::size_t seen = 0;
   Phone phone;
 };
 
-TEST_CASE("an answered call carries Marvin's tone to the other side and the other side's back") {
+// Most tests: a test peer and Marvin's phone (playing `marvin_tone_hz`, or ausine's tone
+// when 0) in one temporary directory.
+struct PhoneLine {
+  explicit PhoneLine(bool peer_answers, std::chrono::milliseconds no_answer = std::chrono::seconds(20),
+                     double marvin_tone_hz = 0)
+      : peer(dir / "peer", peer_answers),
+        marvin(dir / "marvin", tone_file(dir.path(), marvin_tone_hz), no_answer) {}
+  static std::filesystem::path tone_file(const std::filesystem::path& dir, double hz) {
+    if (hz == 0) return {};
+    testing::write_tone_wav(dir / "tone.wav", hz, 1.5);
+    return dir / "tone.wav";
+  }
   test_support::TempDir dir;
-  testing::write_tone_wav(dir / "tone.wav", 1000, 1.5);
-  TestPeer peer(dir / "peer", /*auto_answer=*/true);  // sends ausine's 440 Hz
-  MarvinPhone marvin(dir / "marvin", dir / "tone.wav");
+  TestPeer peer;
+  MarvinPhone marvin;
+  std::size_t peer_seen = 0;  // the peer's events read so far
+  std::optional<BaresipEvent> peer_event(const std::string& type) {
+    return peer.wait_event(type, &peer_seen);
+  }
+};
+
+TEST_CASE("an answered call carries Marvin's tone to the other side and the other side's back") {
+  PhoneLine line(/*peer_answers=*/true, std::chrono::seconds(20), 1000);  // the peer: 440 Hz
+  auto& peer = line.peer;
+  auto& marvin = line.marvin;
   testing::ClosedFileWatch heard_files(peer.record_dir());
-  testing::ClosedFileWatch marvin_heard_files(dir / "marvin" / "recordings");
+  testing::ClosedFileWatch marvin_heard_files(line.dir / "marvin" / "recordings");
 
   CHECK(marvin.phone.dial(peer.uri()) == "");
   REQUIRE(marvin.wait(Kind::kAnswered));
   CHECK(marvin.phone.state() == CallState::kInCall);
   CHECK(marvin.phone.peer() == peer.uri());
   // The tone file ends after 1.5 s, and with it the call (baresip 1.0's aufile).
-  std::size_t from = 0;
-  REQUIRE(peer.wait_event("CALL_CLOSED", &from));
-  REQUIRE(marvin.wait(Kind::kEnded));
+  REQUIRE(line.peer_event("CALL_CLOSED"));
+  marvin.wait_ended();
   const auto heard = heard_files.wait("-dec.wav", kWait);
   REQUIRE(heard);
   int rate = 0;
@@ -66,53 +91,40 @@ TEST_CASE("an answered call carries Marvin's tone to the other side and the othe
 }
 
 TEST_CASE("ringing, then hang up: the other side sees the call end") {
-  test_support::TempDir dir;
-  TestPeer peer(dir / "peer", /*auto_answer=*/false);
-  MarvinPhone marvin(dir / "marvin");
-  CHECK(marvin.phone.dial(peer.uri()) == "");
-  std::size_t from = 0;
-  REQUIRE(peer.wait_event("CALL_INCOMING", &from));
+  PhoneLine line(/*peer_answers=*/false);
+  auto& marvin = line.marvin;
+  CHECK(marvin.phone.dial(line.peer.uri()) == "");
+  REQUIRE(line.peer_event("CALL_INCOMING"));
   REQUIRE(marvin.wait(Kind::kRinging));
   CHECK(marvin.phone.state() == CallState::kRinging);
   CHECK(marvin.phone.hang_up());
-  const auto ended = marvin.wait(Kind::kEnded);
-  REQUIRE(ended);
-  CHECK(ended->end == CallEnd::kHungUp);
-  CHECK(peer.wait_event("CALL_CLOSED", &from));
+  CHECK(marvin.wait_ended().end == CallEnd::kHungUp);
+  CHECK(line.peer_event("CALL_CLOSED"));
   CHECK(marvin.phone.state() == CallState::kIdle);
   CHECK_FALSE(marvin.phone.hang_up());  // nothing left to hang up
 }
 
 TEST_CASE("a declined call is reported busy") {
-  test_support::TempDir dir;
-  TestPeer peer(dir / "peer", /*auto_answer=*/false);
-  MarvinPhone marvin(dir / "marvin");
-  CHECK(marvin.phone.dial(peer.uri()) == "");
-  std::size_t from = 0;
-  REQUIRE(peer.wait_event("CALL_INCOMING", &from));
-  CHECK(peer.ua().command("hangup").ok);
-  const auto ended = marvin.wait(Kind::kEnded);
-  REQUIRE(ended);
-  CHECK(ended->end == CallEnd::kBusy);
-  CHECK(ended->reason.find("486") == 0);
+  PhoneLine line(/*peer_answers=*/false);
+  CHECK(line.marvin.phone.dial(line.peer.uri()) == "");
+  REQUIRE(line.peer_event("CALL_INCOMING"));
+  CHECK(line.peer.ua().command("hangup").ok);
+  const PhoneEvent ended = line.marvin.wait_ended();
+  CHECK(ended.end == CallEnd::kBusy);
+  CHECK(ended.reason.find("486") == 0);
 }
 
 TEST_CASE("a call nobody answers ends as 'no answer' after the timeout") {
-  test_support::TempDir dir;
-  TestPeer peer(dir / "peer", /*auto_answer=*/false);
-  MarvinPhone marvin(dir / "marvin", {}, std::chrono::milliseconds(800));
-  CHECK(marvin.phone.dial(peer.uri()) == "");
-  const auto ended = marvin.wait(Kind::kEnded);
-  REQUIRE(ended);
-  CHECK(ended->end == CallEnd::kNoAnswer);
-  std::size_t from = 0;
-  CHECK(peer.wait_event("CALL_CLOSED", &from));
+  PhoneLine line(/*peer_answers=*/false, std::chrono::milliseconds(800));
+  CHECK(line.marvin.phone.dial(line.peer.uri()) == "");
+  CHECK(line.marvin.wait_ended().end == CallEnd::kNoAnswer);
+  CHECK(line.peer_event("CALL_CLOSED"));
 }
 
 TEST_CASE("an incoming call is announced, answered, then declined the next time") {
-  test_support::TempDir dir;
-  TestPeer peer(dir / "peer", /*auto_answer=*/false);
-  MarvinPhone marvin(dir / "marvin");
+  PhoneLine line(/*peer_answers=*/false);
+  auto& peer = line.peer;
+  auto& marvin = line.marvin;
   CHECK_FALSE(marvin.phone.answer());  // nothing rings yet
   REQUIRE(peer.ua().command("dial", marvin.uri()).ok);
   const auto incoming = marvin.wait(Kind::kIncoming);
@@ -121,29 +133,24 @@ TEST_CASE("an incoming call is announced, answered, then declined the next time"
   CHECK(marvin.phone.state() == CallState::kIncoming);
   CHECK(marvin.phone.answer());
   REQUIRE(marvin.wait(Kind::kAnswered));
-  std::size_t from = 0;
-  REQUIRE(peer.wait_event("CALL_ESTABLISHED", &from));
+  REQUIRE(line.peer_event("CALL_ESTABLISHED"));
   REQUIRE(peer.ua().command("hangup").ok);
-  const auto ended = marvin.wait(Kind::kEnded);
-  REQUIRE(ended);
-  CHECK(ended->end == CallEnd::kRemoteHungUp);
-  REQUIRE(peer.wait_event("CALL_CLOSED", &from));
+  CHECK(marvin.wait_ended().end == CallEnd::kRemoteHungUp);
+  REQUIRE(line.peer_event("CALL_CLOSED"));
 
   REQUIRE(peer.ua().command("dial", marvin.uri()).ok);
   REQUIRE(marvin.wait(Kind::kIncoming));
   CHECK(marvin.phone.decline());
-  const auto declined = marvin.wait(Kind::kEnded);
-  REQUIRE(declined);
-  CHECK(declined->end == CallEnd::kHungUp);
-  const auto closed = peer.wait_event("CALL_CLOSED", &from);
+  CHECK(marvin.wait_ended().end == CallEnd::kHungUp);
+  const auto closed = line.peer_event("CALL_CLOSED");
   REQUIRE(closed);
   CHECK(closed->param.find("486") == 0);
 }
 
 TEST_CASE("a killed baresip is restarted and calls work again") {
-  test_support::TempDir dir;
-  TestPeer peer(dir / "peer", /*auto_answer=*/false);
-  MarvinPhone marvin(dir / "marvin");
+  PhoneLine line(/*peer_answers=*/false);
+  auto& peer = line.peer;
+  auto& marvin = line.marvin;
   const pid_t first = marvin.phone.baresip().pid();
   REQUIRE(first > 0);
   REQUIRE(::kill(first, SIGKILL) == 0);
@@ -155,16 +162,14 @@ TEST_CASE("a killed baresip is restarted and calls work again") {
 }
 
 TEST_CASE("a call in progress ends as failed when baresip dies") {
-  test_support::TempDir dir;
-  TestPeer peer(dir / "peer", /*auto_answer=*/false);
-  MarvinPhone marvin(dir / "marvin");
-  CHECK(marvin.phone.dial(peer.uri()) == "");
+  PhoneLine line(/*peer_answers=*/false);
+  auto& marvin = line.marvin;
+  CHECK(marvin.phone.dial(line.peer.uri()) == "");
   REQUIRE(marvin.wait(Kind::kRinging));
   REQUIRE(::kill(marvin.phone.baresip().pid(), SIGKILL) == 0);
-  const auto ended = marvin.wait(Kind::kEnded);
-  REQUIRE(ended);
-  CHECK(ended->end == CallEnd::kFailed);
-  CHECK(ended->reason == "the phone service stopped");
+  const PhoneEvent ended = marvin.wait_ended();
+  CHECK(ended.end == CallEnd::kFailed);
+  CHECK(ended.reason == "the phone service stopped");
   CHECK(marvin.phone.state() == CallState::kIdle);
 }
 
@@ -264,79 +269,72 @@ TEST_CASE("bad phone settings are refused naming the setting") {
 namespace marvin::telephony {
 namespace {
 
+// Marvin's phone whose events go to the EmergencyCall under test, and the steps it says.
+struct EmergencyLine {
+  EmergencyLine(const std::filesystem::path& dir, std::chrono::milliseconds no_answer)
+      : phone(testing::marvin_settings(dir), dir / "baresip",
+              [this](const PhoneEvent& e) {
+                std::lock_guard lock(mutex);
+                if (call) call->on_phone_event(e);
+              },
+              no_answer) {
+    phone.start();
+    REQUIRE(phone.wait_ready(kWait));
+  }
+  ~EmergencyLine() {
+    std::lock_guard lock(mutex);
+    call.reset();
+  }
+  // Starts calling `contacts` for help.
+  EmergencyCall& call_for_help(std::vector<EmergencyContact> contacts) {
+    {
+      std::lock_guard lock(mutex);
+      call.emplace(phone, std::move(contacts), [this](const std::string& text) { steps.add(text); });
+    }
+    call->start();
+    return *call;
+  }
+  EventLog<std::string> steps;
+  std::mutex mutex;
+  std::optional<EmergencyCall> call;
+  Phone phone;
+};
+
 TEST_CASE("call for help: busy, then no answer, then the third contact answers") {
   test_support::TempDir dir;
   TestPeer anna(dir / "anna", /*auto_answer=*/false, "anna");
   TestPeer ben(dir / "ben", /*auto_answer=*/false, "ben");
   TestPeer carla(dir / "carla", /*auto_answer=*/true, "carla");
-  EventLog<std::string> steps;
-  EmergencyCall* emergency = nullptr;
-  std::mutex emergency_mutex;
-  Phone phone(testing::marvin_settings(dir / "marvin"), dir / "marvin" / "baresip",
-              [&](const PhoneEvent& e) {
-                std::lock_guard lock(emergency_mutex);
-                if (emergency) emergency->on_phone_event(e);
-              },
-              std::chrono::milliseconds(800));
-  phone.start();
-  REQUIRE(phone.wait_ready(kWait));
-  {
-    EmergencyCall call(phone,
-                       {{"Anna", anna.uri()}, {"Ben", ben.uri()}, {"Carla", carla.uri()}},
-                       [&](const std::string& text) { steps.add(text); });
-    {
-      std::lock_guard lock(emergency_mutex);
-      emergency = &call;
-    }
-    call.start();
-    std::size_t from = 0;
-    REQUIRE(anna.wait_event("CALL_INCOMING", &from));
-    REQUIRE(anna.ua().command("hangup").ok);  // Anna declines
-    const auto answered = call.wait(kWait);
-    REQUIRE(answered);
-    CHECK(*answered == "Carla");
-    CHECK(steps.all() == std::vector<std::string>{
-                             "Calling Anna for help", "Anna did not answer (busy)",
-                             "Calling Ben for help", "Ben did not answer (no answer)",
-                             "Calling Carla for help", "Carla answered the emergency call"});
-    CHECK(phone.state() == CallState::kInCall);
-    CHECK(phone.peer() == carla.uri());
-    std::lock_guard lock(emergency_mutex);
-    emergency = nullptr;
-  }
+  EmergencyLine line(dir / "marvin", std::chrono::milliseconds(800));
+  EmergencyCall& call =
+      line.call_for_help({{"Anna", anna.uri()}, {"Ben", ben.uri()}, {"Carla", carla.uri()}});
+  std::size_t from = 0;
+  REQUIRE(anna.wait_event("CALL_INCOMING", &from));
+  REQUIRE(anna.ua().command("hangup").ok);  // Anna declines
+  const auto answered = call.wait(kWait);
+  REQUIRE(answered);
+  CHECK(*answered == "Carla");
+  CHECK(line.steps.all() == std::vector<std::string>{
+                                "Calling Anna for help", "Anna did not answer (busy)",
+                                "Calling Ben for help", "Ben did not answer (no answer)",
+                                "Calling Carla for help", "Carla answered the emergency call"});
+  CHECK(line.phone.state() == CallState::kInCall);
+  CHECK(line.phone.peer() == carla.uri());
 }
 
 TEST_CASE("call for help: nobody answers, and that is said") {
   test_support::TempDir dir;
   TestPeer anna(dir / "anna", /*auto_answer=*/false, "anna");
-  EventLog<std::string> steps;
-  std::optional<EmergencyCall> call;
-  std::mutex call_mutex;
-  Phone phone(testing::marvin_settings(dir / "marvin"), dir / "marvin" / "baresip",
-              [&](const PhoneEvent& e) {
-                std::lock_guard lock(call_mutex);
-                if (call) call->on_phone_event(e);
-              },
-              std::chrono::milliseconds(500));
-  phone.start();
-  REQUIRE(phone.wait_ready(kWait));
-  {
-    std::lock_guard lock(call_mutex);
-    call.emplace(phone,
-                 std::vector<EmergencyContact>{{"Anna", anna.uri()},
-                                               {"Nobody", "sip:nobody@127.0.0.1:1"}},
-                 [&](const std::string& text) { steps.add(text); });
-  }
-  call->start();
-  const auto answered = call->wait(kWait);
+  EmergencyLine line(dir / "marvin", std::chrono::milliseconds(500));
+  EmergencyCall& call =
+      line.call_for_help({{"Anna", anna.uri()}, {"Nobody", "sip:nobody@127.0.0.1:1"}});
+  const auto answered = call.wait(kWait);
   REQUIRE(answered);
   CHECK(answered->empty());
-  const auto all = steps.all();
+  const auto all = line.steps.all();
   REQUIRE(all.size() == 5);
   CHECK(all[1] == "Anna did not answer (no answer)");
   CHECK(all[4] == "Nobody answered the emergency call");
-  std::lock_guard lock(call_mutex);
-  call.reset();
 }
 
 }  // namespace

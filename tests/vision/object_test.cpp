@@ -66,51 +66,83 @@ ObjectDetector& detector() {
   return d;
 }
 
+// What the detector finds in darknet's photo `name`.
+std::vector<DetectedObject> detect_in(const char* name) {
+  return detector().detect(read_photo(darknet_photo(name)));
+}
+
+// The detection of class `coco` around `centre`; the test stops when there is none.
+const DetectedObject& require_at(const std::vector<DetectedObject>& found, const std::string& coco,
+                                 cv::Point2f centre) {
+  const DetectedObject* o = found_at(found, coco, centre);
+  REQUIRE_MESSAGE(o != nullptr, "no " << coco << " around (" << centre.x << ", " << centre.y << ")");
+  return *o;
+}
+
+// Why loading the model at `json` fails.
+std::string load_error(const fs::path& json) {
+  return object_error_of([&] { ObjectDetector d(json); });
+}
+
+// A folder camera ("folder:DIR") showing darknet's photo `name`.
+std::string camera_showing(const fs::path& dir, const char* name) {
+  fs::create_directories(dir);
+  fs::copy_file(darknet_photo(name), dir / name);
+  return "folder:" + dir.string();
+}
+
+// The built `marvin` program.
+std::string marvin_program() {
+  return (fs::path(std::getenv("MARVIN_BUILD_DIR")) / "core/app/marvin").string();
+}
+
+// The values of `key` in a JSON list of objects.
+std::vector<std::string> values_of(const nlohmann::json& list, const char* key) {
+  std::vector<std::string> values;
+  for (const auto& o : list) values.push_back(o[key]);
+  return values;
+}
+
+bool has(const std::vector<std::string>& values, const std::string& value) {
+  return std::find(values.begin(), values.end(), value) != values.end();
+}
+
 }  // namespace
 
 TEST_CASE("NanoDet finds the bicycle, the dog and the truck of darknet's dog.jpg") {
-  const cv::Mat image = read_photo(darknet_photo("dog.jpg"));  // 768x576
-  const auto found = detector().detect(image);
+  const auto found = detect_in("dog.jpg");  // 768x576
   // Where they are (looked at by hand): bicycle ~(125..570, 125..425), dog ~(130..310,
   // 220..540), truck ~(465..690, 75..170).
-  const DetectedObject* bicycle = found_at(found, "bicycle", {340, 280});
-  const DetectedObject* dog = found_at(found, "dog", {220, 380});
-  const DetectedObject* truck = found_at(found, "truck", {580, 120});
-  REQUIRE(bicycle != nullptr);
-  REQUIRE(dog != nullptr);
-  REQUIRE(truck != nullptr);
-  CHECK(bicycle->box.width > 350);
-  CHECK(bicycle->box.width < 520);
-  CHECK(dog->box.height > 250);
-  CHECK(dog->box.height < 380);
-  CHECK(truck->box.width > 150);
-  CHECK(truck->box.height < 150);
-  CHECK(bicycle->score > 0.5f);
-  CHECK(bicycle->label == "bicycle");
+  const DetectedObject& bicycle = require_at(found, "bicycle", {340, 280});
+  const DetectedObject& dog = require_at(found, "dog", {220, 380});
+  const DetectedObject& truck = require_at(found, "truck", {580, 120});
+  CHECK(bicycle.box.width > 350);
+  CHECK(bicycle.box.width < 520);
+  CHECK(dog.box.height > 250);
+  CHECK(dog.box.height < 380);
+  CHECK(truck.box.width > 150);
+  CHECK(truck.box.height < 150);
+  CHECK(bicycle.score > 0.5f);
+  CHECK(bicycle.label == "bicycle");
   // Most confident first.
   CHECK(std::is_sorted(found.begin(), found.end(),
                        [](const auto& a, const auto& b) { return a.score > b.score; }));
 }
 
 TEST_CASE("NanoDet finds the person and the horse of darknet's person.jpg") {
-  const cv::Mat image = read_photo(darknet_photo("person.jpg"));  // 640x424
-  const auto found = detector().detect(image);
-  const DetectedObject* person = found_at(found, "person", {230, 240});
-  const DetectedObject* horse = found_at(found, "horse", {500, 240});
-  REQUIRE(person != nullptr);
-  REQUIRE(horse != nullptr);
-  CHECK(person->box.height > 220);
-  CHECK(person->box.width < 140);
-  CHECK(horse->box.width > 150);
+  const auto found = detect_in("person.jpg");  // 640x424
+  const DetectedObject& person = require_at(found, "person", {230, 240});
+  const DetectedObject& horse = require_at(found, "horse", {500, 240});
+  CHECK(person.box.height > 220);
+  CHECK(person.box.width < 140);
+  CHECK(horse.box.width > 150);
 }
 
 TEST_CASE("a phone in a real photo is a 'phone' (cell phone), and the people are found") {
   const fs::path p = object_source_dir() / ".cache/vision/photos/sample2.jpg";
   REQUIRE_MESSAGE(fs::exists(p), p.string() << " is missing: run scripts/setup");
   const auto found = detector().detect(read_photo(p));
-  const DetectedObject* phone = found_at(found, "cell phone", {180, 1300});
-  REQUIRE(phone != nullptr);
-  CHECK(phone->label == "phone");
+  CHECK(require_at(found, "cell phone", {180, 1300}).label == "phone");
   CHECK(std::count_if(found.begin(), found.end(),
                       [](const auto& o) { return o.coco == "person"; }) >= 2);
 }
@@ -169,22 +201,19 @@ TEST_CASE("the names people use for COCO classes, both ways") {
   CHECK(coco_class_for("keys") == std::nullopt);
   const auto words = object_words();
   for (const char* w : {"phone", "remote control", "television", "tv", "table", "cup", "bottle"}) {
-    CHECK_MESSAGE(std::find(words.begin(), words.end(), w) != words.end(), w);
+    CHECK_MESSAGE(has(words, w), w);
   }
   for (const auto& w : words) CHECK_MESSAGE(coco_class_for(w).has_value(), w);
 }
 
 TEST_CASE("vision_look reports the COCO things in view with the names people use") {
   TempDir dir;
-  fs::create_directories(dir / "camera");
-  fs::copy_file(darknet_photo("dog.jpg"), dir / "camera/dog.jpg");
-  VisionEyes eyes("folder:" + (dir / "camera").string(), nullptr, dir / "photos");
+  VisionEyes eyes(camera_showing(dir / "camera", "dog.jpg"), nullptr, dir / "photos");
   const auto seen = nlohmann::json::parse(eyes.look_json());
   CHECK(seen["width"] == 768);
-  std::vector<std::string> labels;
-  for (const auto& o : seen["objects"]) labels.push_back(o["label"]);
-  CHECK(std::find(labels.begin(), labels.end(), "bicycle") != labels.end());
-  CHECK(std::find(labels.begin(), labels.end(), "dog") != labels.end());
+  const auto labels = values_of(seen["objects"], "label");
+  CHECK(has(labels, "bicycle"));
+  CHECK(has(labels, "dog"));
   REQUIRE(!labels.empty());
   const auto& first = seen["objects"][0];
   CHECK(first["class"] == "bicycle");
@@ -194,13 +223,13 @@ TEST_CASE("vision_look reports the COCO things in view with the names people use
 
 TEST_CASE("missing, truncated and wrong object models are errors naming the file") {
   TempDir dir;
-  const std::string missing = object_error_of([&] { ObjectDetector d(dir / "nanodet.json"); });
+  const std::string missing = load_error(dir / "nanodet.json");
   CHECK(contains(missing, (dir / "nanodet.json").string()));
   CHECK(contains(missing, "scripts/setup"));
 
   const fs::path model = find_model(kNanoDetModel);
   fs::copy_file(model, dir / "nanodet.json");
-  const std::string no_weights = object_error_of([&] { ObjectDetector d(dir / "nanodet.json"); });
+  const std::string no_weights = load_error(dir / "nanodet.json");
   CHECK(contains(no_weights, (dir / "nanodet.bin").string()));
   CHECK(contains(no_weights, "scripts/setup"));
 
@@ -210,7 +239,7 @@ TEST_CASE("missing, truncated and wrong object models are errors naming the file
     in.read(data.data(), static_cast<std::streamsize>(data.size()));
     std::ofstream(dir / "nanodet.bin", std::ios::binary).write(data.data(), in.gcount());
   }
-  const std::string cut = object_error_of([&] { ObjectDetector d(dir / "nanodet.json"); });
+  const std::string cut = load_error(dir / "nanodet.json");
   CHECK(contains(cut, "truncated"));
   CHECK(contains(cut, "nanodet.json"));
 
@@ -223,21 +252,19 @@ TEST_CASE("missing, truncated and wrong object models are errors naming the file
     if (node["name"] == "PartitionedCall/onnx_tf_prefix_LeakyRelu_1") node["op"] = "Elu";
   }
   std::ofstream(dir / "nanodet.json") << graph.dump();
-  const std::string op = object_error_of([&] { ObjectDetector d(dir / "nanodet.json"); });
+  const std::string op = load_error(dir / "nanodet.json");
   CHECK(contains(op, "PartitionedCall/onnx_tf_prefix_LeakyRelu_1"));
   CHECK(contains(op, "Elu"));
 
   std::ofstream(dir / "nanodet.json") << "{\"modelTopology\": ";
-  CHECK(contains(object_error_of([&] { ObjectDetector d(dir / "nanodet.json"); }),
-                 "is not a TF.js model.json"));
+  CHECK(contains(load_error(dir / "nanodet.json"), "is not a TF.js model.json"));
 }
 
 TEST_CASE("a real photo runs through the object detector graph node") {
   register_vision_nodes();
   TempDir dir;
-  fs::copy_file(darknet_photo("person.jpg"), dir / "a.jpg");
   graph::GraphConfig config;
-  config.add_node("camera", "CameraSource", {{"camera", "folder:" + dir.path().string()}});
+  config.add_node("camera", "CameraSource", {{"camera", camera_showing(dir.path(), "person.jpg")}});
   config.add_node("objects", "ObjectDetectorNode", {{"min_score", 0.4}});
   config.add_node("log", "ObjectLogger");
   config.connect("camera.frames", "objects.in");
@@ -248,8 +275,8 @@ TEST_CASE("a real photo runs through the object detector graph node") {
   g.start();
   g.wait();
   REQUIRE(seen.size() == 1);
-  CHECK(found_at(seen[0].objects, "person", {230, 240}) != nullptr);
-  CHECK(found_at(seen[0].objects, "horse", {500, 240}) != nullptr);
+  require_at(seen[0].objects, "person", {230, 240});
+  require_at(seen[0].objects, "horse", {500, 240});
   for (const auto& o : seen[0].objects) CHECK(o.score >= 0.4f);
 }
 
@@ -258,9 +285,7 @@ TEST_CASE("run --sim: \"what do you see?\" names the bicycle in front of the rob
   // examples/worlds/photos); the simulated camera renders it and NanoDet finds it.
   TempDir dir;
   fs::create_directories(dir / "skills");
-  const std::string marvin =
-      (fs::path(std::getenv("MARVIN_BUILD_DIR")) / "core/app/marvin").string();
-  test_support::ChildProcess p({marvin, "run", "--sim", "--in-memory", "--skills-dir",
+  test_support::ChildProcess p({marvin_program(), "run", "--sim", "--in-memory", "--skills-dir",
                                 (dir / "skills").string(), "--world",
                                 (object_source_dir() / "examples/worlds/home.json").string()});
   p.wait_for_line("Marvin: Hello, I'm Marvin.");
@@ -272,18 +297,13 @@ TEST_CASE("run --sim: \"what do you see?\" names the bicycle in front of the rob
 
 TEST_CASE("marvin vision look PHOTO prints the objects with the faces") {
   TempDir dir;
-  const std::string marvin =
-      (fs::path(std::getenv("MARVIN_BUILD_DIR")) / "core/app/marvin").string();
-  test_support::ChildProcess p({marvin, "vision", "look", darknet_photo("dog.jpg").string(),
+  test_support::ChildProcess p({marvin_program(), "vision", "look", darknet_photo("dog.jpg").string(),
                                 "--data-dir", (dir / "data").string()});
   REQUIRE(test_support::exit_code(p.finish()) == 0);
   const auto line = nlohmann::json::parse(p.output());
   REQUIRE(line["objects"].is_array());
-  std::vector<std::string> classes;
-  for (const auto& o : line["objects"]) classes.push_back(o["class"]);
-  for (const char* want : {"bicycle", "dog", "truck"}) {
-    CHECK_MESSAGE(std::find(classes.begin(), classes.end(), want) != classes.end(), want);
-  }
+  const auto classes = values_of(line["objects"], "class");
+  for (const char* want : {"bicycle", "dog", "truck"}) CHECK_MESSAGE(has(classes, want), want);
   CHECK(line["faces"].is_array());
 }
 
