@@ -316,7 +316,12 @@ const std::vector<std::string>& dialogue_sentences(Builtin kind) {
       "tell me that again", "what did you ask me", "say again", "run that by me again",
       "i couldn't hear you", "speak again please", "what were you saying",
       "excuse me what was that", "repeat what you just said", "can you repeat the answer",
-      "i did not understand you", "once again please"};
+      "i did not understand you", "once again please",
+      // The question Marvin asked, again.
+      "what were you asking", "ask me that again", "could you ask me again",
+      "what was your question again", "what did you want to know", "ask the question again",
+      "sorry what was the question", "repeat what you asked", "what are you asking me",
+      "i did not catch the question"};
   switch (kind) {
     case Builtin::kYes:
       return yes;

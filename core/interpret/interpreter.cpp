@@ -5,6 +5,7 @@
 #include <cmath>
 #include <mutex>
 #include <set>
+#include <unordered_map>
 
 #include "interpret/builtins.h"
 #include "interpret/intent_model.h"
@@ -97,6 +98,9 @@ struct ModelState {
   IntentModel model;
   std::vector<std::string> word_stems;    // vocabulary id -> stem
   std::vector<SynonymTable> synonyms;     // per intent (same order as Impl::intents)
+  // Example sentences of intents without slots, as the model sees them (politeness
+  // stripped, words joined by spaces) -> intent index; the first intent to give one keeps it.
+  std::unordered_map<std::string, std::size_t> slotless_examples;
   int none_class = 0;                     // the out-of-scope class (= number of intents)
   // Then the dialogue answers: none_class + 1, + 2, + 3.
   static constexpr std::array<Builtin, 3> kDialogue{Builtin::kYes, Builtin::kNo,
@@ -377,6 +381,15 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& builtin_syn
   return table;
 }
 
+std::string join_words(const std::vector<std::string>& words) {
+  std::string out;
+  for (const std::string& w : words) {
+    if (!out.empty()) out.push_back(' ');
+    out += w;
+  }
+  return out;
+}
+
 // Sample words for a slot when expanding templates into training sentences.
 std::vector<std::vector<std::string>> slot_samples(const PreparedSlot& slot) {
   static const std::array<const char*, 9> kWhen{
@@ -550,6 +563,9 @@ std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
     }
     for (const std::string& example : intent.spec.examples) {
       std::vector<std::string> words = strip_politeness(normalize(example));
+      if (intent.spec.slots.empty() && !words.empty()) {
+        state->slotless_examples.emplace(join_words(words), i);
+      }
       add_synonym_variants(words, intent.spec.synonyms, label, sentences);
       sentences.push_back({std::move(words), label});
     }
@@ -671,6 +687,21 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     u.outcome = Understanding::Outcome::kMatch;
     u.reason = "template matches word for word";
     break;
+  }
+
+  // 1b. An example sentence of an intent without slots, said word for word (without the
+  // politeness): the skill's author wrote it for that intent ("what's up" is a greeting,
+  // though most "what is ..." requests are not). Intents with slots are left to the
+  // templates, which fill them.
+  if (u.outcome != Understanding::Outcome::kMatch) {
+    auto example = state->slotless_examples.find(join_words(u.request));
+    if (example != state->slotless_examples.end()) {
+      Match m = impl.to_match(impl.intents[example->second], {});
+      m.confidence = p[example->second];
+      u.match = std::move(m);
+      u.outcome = Understanding::Outcome::kMatch;
+      u.reason = "an example sentence word for word";
+    }
   }
 
   // 2. The model's ranking, with tolerant template parses for the likeliest intents.

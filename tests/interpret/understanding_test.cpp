@@ -259,3 +259,28 @@ TEST_CASE("bad input: a clear reason, no match, and the interpreter unchanged") 
   CHECK(in.size() == 3);
   CHECK(in.match("what time is it", context)->intent == "time");
 }
+
+TEST_CASE("an example sentence of an intent without slots, said word for word, is that intent") {
+  Interpreter in = small_home();
+  mi::IntentSpec hello{"greeter", "hello", {"hello [there]", "good morning"}, {}};
+  // "what is ..." is mostly asked of other intents; the author says this one greets.
+  hello.examples = {"what's new with you", "how goes it", "yo"};
+  in.add(hello);
+  const Context context = fixed_context();
+  for (const char* text : {"what's new with you", "hey, what is new with you?", "how goes it",
+                           "please yo"}) {
+    const std::string said = text;
+    CAPTURE(said);
+    Understanding u = in.understand(text, context);
+    REQUIRE(u.outcome == Understanding::Outcome::kMatch);
+    CHECK(u.match->intent == "hello");
+    CHECK(u.reason == "an example sentence word for word");
+  }
+  // Only word for word: more words go to the model as before.
+  Understanding longer = in.understand("what is new with you and the weather", context);
+  CHECK(longer.reason != "an example sentence word for word");
+  // An intent with slots is matched through its templates, which fill them: its examples
+  // are not taken word for word (the slots would be lost).
+  Understanding reminder = in.understand("wake me up at 6", context);
+  CHECK(reminder.reason != "an example sentence word for word");
+}
