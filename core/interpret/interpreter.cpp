@@ -132,6 +132,27 @@ struct Interpreter::Impl {
   std::vector<std::optional<TemplateMatch>> exact_matches(const std::vector<std::string>& words,
                                                           const Context& context) const;
   Match to_match(const CompiledIntent& intent, std::vector<SlotCapture> captures) const;
+
+  // True when every template of intent `k` has a slot naming a person or thing.
+  bool needs_entity(std::size_t k) const {
+    const CompiledIntent& intent = intents[k];
+    return std::all_of(intent.templates.begin(), intent.templates.end(),
+                       [&](const CompiledTemplate& t) {
+                         return std::any_of(t.program.begin(), t.program.end(),
+                                            [&](const Instruction& in) {
+                                              return in.op == Instruction::Op::kSlot &&
+                                                     intent.slots[static_cast<std::size_t>(in.a)]
+                                                         .entity;
+                                            });
+                       });
+  }
+  // True when `parse` fills one of intent `k`'s person-or-thing slots.
+  bool fills_entity(std::size_t k, const std::optional<TolerantMatch>& parse) const {
+    if (!parse) return false;
+    return std::any_of(parse->slots.begin(), parse->slots.end(), [&](const SlotCapture& c) {
+      return intents[k].slots[static_cast<std::size_t>(c.slot)].entity;
+    });
+  }
 };
 
 Interpreter::Interpreter() : impl_(std::make_unique<Impl>()) {}
@@ -770,6 +791,14 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     return m;
   };
   const float p1 = p[order[0]];
+  // An intent all of whose templates name a person or thing (find {what}, tell {name} ...)
+  // acts only on a request that names one: a tolerant parse must fill such a slot with words
+  // that look like one (slot_plausibility.h). "find a recipe for hamburgers" is sure to be
+  // a finding request to the model, but names nothing that could be in a home.
+  if (impl.needs_entity(order[0]) && !impl.fills_entity(order[0], parses[0])) {
+    u.reason = "names no person or thing for " + impl.intents[order[0]].spec.intent;
+    return u;
+  }
   if (p_dialogue > p1) {
     u.reason = "a dialogue answer, not a request";
     return u;

@@ -31,6 +31,11 @@ constexpr std::array<std::string_view, 16> kReferences{
     "it",       "them",     "him",    "her",     "everyone", "everybody", "someone", "somebody",
     "anyone",   "anybody",  "something", "anything", "everything", "one", "mine", "yours"};
 
+// Words that rank places in the world ("the nearest ...", "the best ...").
+constexpr std::array<std::string_view, 14> kSuperlatives{
+    "nearest", "closest", "best",    "cheapest", "worst",  "fastest", "quickest",
+    "latest",  "newest",  "biggest", "largest",  "highest", "lowest", "top"};
+
 // A subject pronoun after the first word starts a clause: "the temperature it will be".
 constexpr std::array<std::string_view, 8> kClauseStarts{"it", "i", "you", "he", "she",
                                                         "we", "they", "there"};
@@ -63,10 +68,21 @@ bool plausible_entity(std::span<const std::string> words, const WordNet* wordnet
     ++end;
   }
   if (end == begin) return false;
+  // "the nearest gas station", "the best pizza place": a search of the world, not of a home.
+  for (std::size_t i = begin; i < end; ++i) {
+    if (in(kSuperlatives, words[i])) return false;
+  }
   const std::string& head = words[end - 1];
   if (in(kReferences, head)) return true;
   if (in(kFunctionWords, head) || in(kDeterminers, head)) return false;
   if (wordnet == nullptr) return true;
+  // A word WordNet knows only as a verb, adjective or adverb is none ("yet", "ridiculous").
+  if (wordnet->noun_categories(head, 1).empty() && wordnet->is_verb_adjective_or_adverb(head)) {
+    return false;
+  }
+  // One or two words with no article or possessive may be a name ("mark", "aunt felicity",
+  // "grace"): WordNet files many first names under abstract nouns.
+  if (begin == 0 && end == words.size() && words.size() <= 2) return true;
   auto concrete = [&](const std::string& word) {
     const std::vector<int> categories = wordnet->noun_categories(word, 3);
     return std::any_of(categories.begin(), categories.end(), [](int c) {

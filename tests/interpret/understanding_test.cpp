@@ -94,6 +94,17 @@ float tolerant_cost(const char* text, const char* utterance,
 
 }  // namespace
 
+TEST_CASE("tolerant matching: a slot never takes a template word counted as missing") {
+  // "help me find my slippers" with `find {thing}`: "find" missing and the whole sentence in
+  // the slot (1.25) is no parse; two extra words before "find" (2.0) is.
+  CHECK(tolerant_cost("find {thing}", "help me find my slippers") ==
+        2 * mi::TolerantCosts::kExtraWord);
+  // Nor the other way round: a word missing after the slot is not inside it.
+  CHECK(tolerant_cost("{thing} is on", "the kitchen light on") ==
+        mi::TolerantCosts::kMissingWord);
+  CHECK(tolerant_cost("{thing} is on", "is on") == mi::TolerantCosts::kMissingSlot);
+}
+
 TEST_CASE("normalise: contractions, spellings, ordinals, time formats") {
   CHECK(mi::normalize("What's the time?") == Words{"what", "is", "the", "time"});
   CHECK(mi::normalize("I'd like a reminder") == Words{"i", "would", "like", "a", "reminder"});
