@@ -278,6 +278,17 @@ const std::vector<std::string>& background_sentences() {
       "what is the temperature outside",
       "how cold will it be tonight",
       "is it warm enough for shorts",
+      // A greeting mentioned, not said: how people greet in other languages.
+      "how would i say good morning in portuguese", "teach me to say hi in korean",
+      "how do people say good evening in russian", "what does bonjour mean",
+      "what is the polite greeting in thailand",
+      // Alerts on events in the world, not at a time: no skill watches prices or parcels.
+      "alert me when bitcoin drops below 20000", "notify me when my parcel ships",
+      "let me know if it starts to rain later", "tell me when petrol gets cheaper",
+      "warn me when the stock market falls",
+      // To-do lists: no skill keeps one (reminders are at a time).
+      "add mowing the lawn to my to do list", "cross laundry off my todo list",
+      "is paying the bills on my to do list", "put clean the garage on my todo list",
   };
   return sentences;
 }

@@ -99,8 +99,10 @@ struct ModelState {
   std::vector<std::string> word_stems;    // vocabulary id -> stem
   std::vector<SynonymTable> synonyms;     // per intent (same order as Impl::intents)
   // Example sentences of intents without slots, as the model sees them (politeness
-  // stripped, words joined by spaces) -> intent index; the first intent to give one keeps it.
+  // stripped, words joined by spaces) -> intent index, or kSharedExample when two intents
+  // give the same sentence.
   std::unordered_map<std::string, std::size_t> slotless_examples;
+  static constexpr std::size_t kSharedExample = static_cast<std::size_t>(-1);
   int none_class = 0;                     // the out-of-scope class (= number of intents)
   // Then the dialogue answers: none_class + 1, + 2, + 3.
   static constexpr std::array<Builtin, 3> kDialogue{Builtin::kYes, Builtin::kNo,
@@ -585,7 +587,9 @@ std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
     for (const std::string& example : intent.spec.examples) {
       std::vector<std::string> words = strip_politeness(normalize(example));
       if (intent.spec.slots.empty() && !words.empty()) {
-        state->slotless_examples.emplace(join_words(words), i);
+        // An example two intents share decides nothing: the model ranks them (and asks).
+        auto [at, added] = state->slotless_examples.emplace(join_words(words), i);
+        if (!added && at->second != i) at->second = ModelState::kSharedExample;
       }
       add_synonym_variants(words, intent.spec.synonyms, label, sentences);
       sentences.push_back({std::move(words), label});
@@ -716,7 +720,8 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   // templates, which fill them.
   if (u.outcome != Understanding::Outcome::kMatch) {
     auto example = state->slotless_examples.find(join_words(u.request));
-    if (example != state->slotless_examples.end()) {
+    if (example != state->slotless_examples.end() &&
+        example->second != ModelState::kSharedExample) {
       Match m = impl.to_match(impl.intents[example->second], {});
       m.confidence = p[example->second];
       u.match = std::move(m);

@@ -287,6 +287,12 @@ TEST_CASE("an example sentence of an intent without slots, said word for word, i
     CHECK(u.match->intent == "hello");
     CHECK(u.reason == "an example sentence word for word");
   }
+  // An example two intents share decides nothing.
+  mi::IntentSpec wave{"waver", "wave", {"wave at me"}, {}};
+  wave.examples = {"how goes it"};
+  in.add(wave);
+  CHECK(in.understand("how goes it", context).reason != "an example sentence word for word");
+  CHECK(in.understand("yo", context).reason == "an example sentence word for word");
   // Only word for word: more words go to the model as before.
   Understanding longer = in.understand("what is new with you and the weather", context);
   CHECK(longer.reason != "an example sentence word for word");
