@@ -1,4 +1,6 @@
 // Entity slots (find {what}, tell {name} ..., turn on {device}) hold a person or a thing.
+#include "interpret/slot_plausibility.h"
+
 #include <doctest/doctest.h>
 
 #include <string>
@@ -6,7 +8,6 @@
 
 #include "interpret/interpreter.h"
 #include "interpret/normalizer.h"
-#include "interpret/slot_plausibility.h"
 #include "interpret/wordnet.h"
 
 namespace mi = marvin::interpret;
@@ -41,10 +42,8 @@ mi::Interpreter finding_like() {
                    "tell",
                    {"tell {name} that {message}", "tell {name} {message}"},
                    {{"name", mi::SlotType::kText, {}}, {"message", mi::SlotType::kText, {}}}});
-  interpreter.add({"notes",
-                   "note",
-                   {"make a note (that|about) {text}"},
-                   {{"text", mi::SlotType::kText, {}}}});
+  interpreter.add(
+      {"notes", "note", {"make a note (that|about) {text}"}, {{"text", mi::SlotType::kText, {}}}});
   return interpreter;
 }
 
@@ -64,8 +63,8 @@ TEST_CASE("entity slots are known by their names") {
 }
 
 TEST_CASE("a person or a thing in a home is plausible; information, qualities and events are not") {
-  for (const char* text : {"my keys", "the remote", "my glasses case", "the kids", "anna",
-                           "bob", "my medicine", "the living room lamp", "her", "the cat",
+  for (const char* text : {"my keys", "the remote", "my glasses case", "the kids", "anna", "bob",
+                           "my medicine", "the living room lamp", "her", "the cat",
                            "the keys to the car", "my phone", "the ac", "dinner",
                            // names WordNet knows as abstract nouns
                            "mark", "felicity", "aunt grace"}) {
@@ -73,10 +72,10 @@ TEST_CASE("a person or a thing in a home is plausible; information, qualities an
     CAPTURE(said);
     CHECK(entity(text));
   }
-  for (const char* text : {"a recipe for pancakes", "advice on taxes",
-                           "the temperature it will be", "the weather", "some information",
-                           "the news", "the", "of the", "finalised yet", "ridiculous",
-                           "the nearest cash machine", "the best pizza place"}) {
+  for (const char* text :
+       {"a recipe for pancakes", "advice on taxes", "the temperature it will be", "the weather",
+        "some information", "the news", "the", "of the", "finalised yet", "ridiculous",
+        "the nearest cash machine", "the best pizza place"}) {
     const std::string said = text;
     CAPTURE(said);
     CHECK_FALSE(entity(text));
@@ -89,15 +88,15 @@ TEST_CASE("a generic verb with an entity slot declines requests that name no thi
   const mi::Interpreter interpreter = finding_like();
   const mi::Context context = plausibility_context();
   // Out of scope, written for this test: each fits a template word for word.
-  for (const char* text : {"find a recipe for banana bread", "look for advice on my taxes",
-                           "find the meaning of life", "tell the time it is in tokyo",
-                           "tell the news that matter today", "where is the nearest information",
-                           "find instructions for knitting a scarf"}) {
+  for (const char* text :
+       {"find a recipe for banana bread", "look for advice on my taxes", "find the meaning of life",
+        "tell the time it is in tokyo", "tell the news that matter today",
+        "where is the nearest information", "find instructions for knitting a scarf"}) {
     const std::string said = text;
     CAPTURE(said);
     mi::Understanding u = interpreter.understand(text, context);
-    const bool acted = u.outcome == mi::Understanding::Outcome::kMatch &&
-                       u.match->skill_id == "finder";
+    const bool acted =
+        u.outcome == mi::Understanding::Outcome::kMatch && u.match->skill_id == "finder";
     CHECK_FALSE(acted);
   }
   // In scope: people and things.
@@ -116,5 +115,4 @@ TEST_CASE("a generic verb with an entity slot declines requests that name no thi
   CHECK(intent_of("make a note about the weather") == "note");
   // Names WordNet files under abstract nouns are still people.
   CHECK(intent_of("tell mark that the tea is ready") == "tell");
-
 }
