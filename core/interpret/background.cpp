@@ -278,6 +278,17 @@ const std::vector<std::string>& background_sentences() {
       "what is the temperature outside",
       "how cold will it be tonight",
       "is it warm enough for shorts",
+      // A greeting mentioned, not said: how people greet in other languages.
+      "how would i say good morning in portuguese", "teach me to say hi in korean",
+      "how do people say good evening in russian", "what does bonjour mean",
+      "what is the polite greeting in thailand",
+      // Alerts on events in the world, not at a time: no skill watches prices or parcels.
+      "alert me when bitcoin drops below 20000", "notify me when my parcel ships",
+      "let me know if it starts to rain later", "tell me when petrol gets cheaper",
+      "warn me when the stock market falls",
+      // To-do lists: no skill keeps one (reminders are at a time).
+      "add mowing the lawn to my to do list", "cross laundry off my todo list",
+      "is paying the bills on my to do list", "put clean the garage on my todo list",
   };
   return sentences;
 }
@@ -316,7 +327,12 @@ const std::vector<std::string>& dialogue_sentences(Builtin kind) {
       "tell me that again", "what did you ask me", "say again", "run that by me again",
       "i couldn't hear you", "speak again please", "what were you saying",
       "excuse me what was that", "repeat what you just said", "can you repeat the answer",
-      "i did not understand you", "once again please"};
+      "i did not understand you", "once again please",
+      // The question Marvin asked, again.
+      "what were you asking", "ask me that again", "could you ask me again",
+      "what was your question again", "what did you want to know", "ask the question again",
+      "sorry what was the question", "repeat what you asked", "what are you asking me",
+      "i did not catch the question"};
   switch (kind) {
     case Builtin::kYes:
       return yes;

@@ -178,6 +178,8 @@ Builtin by_head_word_after_lead_in(const std::vector<std::string>& w) {
          in(w[k], {"oh", "um", "uh", "erm", "ah", "well", "hmm", "actually", "just", "so",
                    "i", "want", "would", "like", "to", "need", "let", "us", "you", "can",
                    "could", "please", "mean", "guess", "said", "hey",
+                   // intensifiers: "hell no", "heck yes", "oh god no"
+                   "hell", "heck", "god", "gosh",
                    // how people address an assistant that is not called by its name
                    "ai", "assistant", "robot", "computer", "bot"})) {
     ++k;

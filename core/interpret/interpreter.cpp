@@ -5,6 +5,7 @@
 #include <cmath>
 #include <mutex>
 #include <set>
+#include <unordered_map>
 
 #include "interpret/builtins.h"
 #include "interpret/intent_model.h"
@@ -97,6 +98,11 @@ struct ModelState {
   IntentModel model;
   std::vector<std::string> word_stems;    // vocabulary id -> stem
   std::vector<SynonymTable> synonyms;     // per intent (same order as Impl::intents)
+  // Example sentences of intents without slots, as the model sees them (politeness
+  // stripped, words joined by spaces) -> intent index, or kSharedExample when two intents
+  // give the same sentence.
+  std::unordered_map<std::string, std::size_t> slotless_examples;
+  static constexpr std::size_t kSharedExample = static_cast<std::size_t>(-1);
   int none_class = 0;                     // the out-of-scope class (= number of intents)
   // Then the dialogue answers: none_class + 1, + 2, + 3.
   static constexpr std::array<Builtin, 3> kDialogue{Builtin::kYes, Builtin::kNo,
@@ -128,6 +134,27 @@ struct Interpreter::Impl {
   std::vector<std::optional<TemplateMatch>> exact_matches(const std::vector<std::string>& words,
                                                           const Context& context) const;
   Match to_match(const CompiledIntent& intent, std::vector<SlotCapture> captures) const;
+
+  // True when every template of intent `k` has a slot naming a person or thing.
+  bool needs_entity(std::size_t k) const {
+    const CompiledIntent& intent = intents[k];
+    return std::all_of(intent.templates.begin(), intent.templates.end(),
+                       [&](const CompiledTemplate& t) {
+                         return std::any_of(t.program.begin(), t.program.end(),
+                                            [&](const Instruction& in) {
+                                              return in.op == Instruction::Op::kSlot &&
+                                                     intent.slots[static_cast<std::size_t>(in.a)]
+                                                         .entity;
+                                            });
+                       });
+  }
+  // True when `parse` fills one of intent `k`'s person-or-thing slots.
+  bool fills_entity(std::size_t k, const std::optional<TolerantMatch>& parse) const {
+    if (!parse) return false;
+    return std::any_of(parse->slots.begin(), parse->slots.end(), [&](const SlotCapture& c) {
+      return intents[k].slots[static_cast<std::size_t>(c.slot)].entity;
+    });
+  }
 };
 
 Interpreter::Interpreter() : impl_(std::make_unique<Impl>()) {}
@@ -377,6 +404,15 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& builtin_syn
   return table;
 }
 
+std::string join_words(const std::vector<std::string>& words) {
+  std::string out;
+  for (const std::string& w : words) {
+    if (!out.empty()) out.push_back(' ');
+    out += w;
+  }
+  return out;
+}
+
 // Sample words for a slot when expanding templates into training sentences.
 std::vector<std::vector<std::string>> slot_samples(const PreparedSlot& slot) {
   static const std::array<const char*, 9> kWhen{
@@ -550,6 +586,11 @@ std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
     }
     for (const std::string& example : intent.spec.examples) {
       std::vector<std::string> words = strip_politeness(normalize(example));
+      if (intent.spec.slots.empty() && !words.empty()) {
+        // An example two intents share decides nothing: the model ranks them (and asks).
+        auto [at, added] = state->slotless_examples.emplace(join_words(words), i);
+        if (!added && at->second != i) at->second = ModelState::kSharedExample;
+      }
       add_synonym_variants(words, intent.spec.synonyms, label, sentences);
       sentences.push_back({std::move(words), label});
     }
@@ -673,6 +714,22 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     break;
   }
 
+  // 1b. An example sentence of an intent without slots, said word for word (without the
+  // politeness): the skill's author wrote it for that intent ("what's up" is a greeting,
+  // though most "what is ..." requests are not). Intents with slots are left to the
+  // templates, which fill them.
+  if (u.outcome != Understanding::Outcome::kMatch) {
+    auto example = state->slotless_examples.find(join_words(u.request));
+    if (example != state->slotless_examples.end() &&
+        example->second != ModelState::kSharedExample) {
+      Match m = impl.to_match(impl.intents[example->second], {});
+      m.confidence = p[example->second];
+      u.match = std::move(m);
+      u.outcome = Understanding::Outcome::kMatch;
+      u.reason = "an example sentence word for word";
+    }
+  }
+
   // 2. The model's ranking, with tolerant template parses for the likeliest intents.
   std::vector<std::string> stems;
   std::vector<int> ids;
@@ -739,6 +796,14 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     return m;
   };
   const float p1 = p[order[0]];
+  // An intent all of whose templates name a person or thing (find {what}, tell {name} ...)
+  // acts only on a request that names one: a tolerant parse must fill such a slot with words
+  // that look like one (slot_plausibility.h). "find a recipe for hamburgers" is sure to be
+  // a finding request to the model, but names nothing that could be in a home.
+  if (impl.needs_entity(order[0]) && !impl.fills_entity(order[0], parses[0])) {
+    u.reason = "names no person or thing for " + impl.intents[order[0]].spec.intent;
+    return u;
+  }
   if (p_dialogue > p1) {
     u.reason = "a dialogue answer, not a request";
     return u;

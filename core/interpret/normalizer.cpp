@@ -102,6 +102,14 @@ constexpr std::array kContractions{
     Rewrite{"shouldn't", "should not"}, Rewrite{"wanna", "want to"}, Rewrite{"gonna", "going to"},
     Rewrite{"gotta", "got to"},     Rewrite{"gimme", "give me"},     Rewrite{"lemme", "let me"},
     Rewrite{"can not", "cannot"},
+    // Typed without the apostrophe (words that are no other English word).
+    Rewrite{"thats", "that is"},    Rewrite{"theres", "there is"},   Rewrite{"wheres", "where is"},
+    Rewrite{"whos", "who is"},      Rewrite{"hows", "how is"},       Rewrite{"whens", "when is"},
+    Rewrite{"doesnt", "does not"},  Rewrite{"didnt", "did not"},     Rewrite{"isnt", "is not"},
+    Rewrite{"arent", "are not"},    Rewrite{"wasnt", "was not"},     Rewrite{"havent", "have not"},
+    Rewrite{"hasnt", "has not"},    Rewrite{"couldnt", "could not"},
+    Rewrite{"wouldnt", "would not"}, Rewrite{"shouldnt", "should not"},
+    Rewrite{"youre", "you are"},    Rewrite{"ive", "i have"},        Rewrite{"theyre", "they are"},
 };
 
 // British spellings -> American, and a few common variants, so a template written either

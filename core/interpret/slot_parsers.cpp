@@ -6,8 +6,10 @@
 #include "interpret/durations.h"
 #include "interpret/normalizer.h"
 #include "interpret/number_words.h"
+#include "interpret/slot_plausibility.h"
 #include "interpret/time_expression.h"
 #include "interpret/time_resolution.h"
+#include "interpret/wordnet.h"
 
 namespace marvin::interpret {
 namespace {
@@ -54,6 +56,7 @@ PreparedSlot prepare_slot(const SlotSpec& spec) {
       break;
     case SlotType::kText:
       slot.max_words = kTextSlotMaxWords;
+      slot.entity = is_entity_slot(spec.name);
       break;
   }
   return slot;
@@ -130,6 +133,12 @@ std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
       // thing a slot asks for: without this, "tell me a joke" would fill "tell {name}
       // {message}" with name "me a".
       if (!words.empty() && (is_speaker(words[0]) || (words.size() == 1 && words[0] == "you"))) {
+        return std::nullopt;
+      }
+      // "the" or "of the" is no value; a person or thing must look like one.
+      if (only_function_words(words)) return std::nullopt;
+      if (slot.entity && !contacts.find(words) &&
+          !plausible_entity(words, WordNet::installed())) {
         return std::nullopt;
       }
       std::string text = join(words);

@@ -19,6 +19,7 @@ struct PreparedSlot {
   SlotSpec spec;
   std::vector<std::vector<std::string>> list_words;  // kList: normalised values[i]
   std::size_t max_words = 1;
+  bool entity = false;  // kText naming a person or thing (slot_plausibility.h)
 };
 
 PreparedSlot prepare_slot(const SlotSpec& spec);

@@ -13,6 +13,43 @@ namespace {
 constexpr std::array<std::string_view, 7> kWeekdays{
     "sunday", "monday", "tuesday", "wednesday", "thursday", "friday", "saturday"};
 
+constexpr std::array<std::string_view, 12> kMonths{
+    "january", "february", "march",     "april",   "may",      "june",
+    "july",    "august",   "september", "october", "november", "december"};
+
+// "march", "mar", "sept", "sep": 1..12. "may" is a month here; the grammar asks for a day
+// number next to it, so "may i ..." never reads as a date.
+std::optional<int> month_of(std::string_view word) {
+  for (std::size_t m = 0; m < kMonths.size(); ++m) {
+    if (word == kMonths[m]) return static_cast<int>(m) + 1;
+  }
+  if (word == "sept") return 9;
+  if (word.size() == 3) {
+    for (std::size_t m = 0; m < kMonths.size(); ++m) {
+      if (kMonths[m].substr(0, 3) == word) return static_cast<int>(m) + 1;
+    }
+  }
+  return std::nullopt;
+}
+
+// "4", "4th", "21st", "22nd", "3rd": 1..31.
+std::optional<int> day_number_of(std::string_view word) {
+  for (std::string_view suffix : {"st", "nd", "rd", "th"}) {
+    if (word.size() > suffix.size() && word.ends_with(suffix)) {
+      word.remove_suffix(suffix.size());
+      break;
+    }
+  }
+  if (word.empty() || word.size() > 2) return std::nullopt;
+  int n = 0;
+  for (char c : word) {
+    if (c < '0' || c > '9') return std::nullopt;
+    n = n * 10 + (c - '0');
+  }
+  if (n < 1 || n > 31) return std::nullopt;
+  return n;
+}
+
 constexpr unsigned kMondayToFriday = 0b0111110U;
 constexpr unsigned kWeekend = 0b1000001U;
 
@@ -47,6 +84,12 @@ class TimeReader {
     bool have_time = false, have_day = false, have_recurrence = false;
     while (at_ < w_.size()) {
       std::size_t start = at_;
+      // A calendar date first: "3 march" is not the hour 3.
+      if (!have_day && !have_recurrence && read_calendar_date(phrase)) {
+        have_day = true;
+        continue;
+      }
+      at_ = start;
       if (!have_time) {
         accept("at");
         if (auto t = read_time_of_day()) {
@@ -242,6 +285,8 @@ class TimeReader {
     }
     if (read_range(phrase)) return true;
     at_ = start;
+    if (read_calendar_date(phrase)) return true;
+    at_ = start;
     (void)(accept("on") || accept("next") || accept("this") || accept("coming"));
     bool plural = false;
     if (at_ < w_.size()) {
@@ -253,6 +298,64 @@ class TimeReader {
     }
     at_ = start;
     return false;
+  }
+
+  // A day number: "4", "4th", or "20 1st" (number words normalise to two tokens).
+  std::optional<int> read_day_number() {
+    if (at_ >= w_.size()) return std::nullopt;
+    if (at_ + 1 < w_.size() && (w_[at_] == "20" || w_[at_] == "30")) {
+      auto unit = day_number_of(w_[at_ + 1]);
+      if (unit && *unit <= 9 && w_[at_ + 1].size() > 1) {
+        const int n = (w_[at_] == "20" ? 20 : 30) + *unit;
+        if (n <= 31) {
+          at_ += 2;
+          return n;
+        }
+      }
+    }
+    auto n = day_number_of(w_[at_]);
+    if (n) ++at_;
+    return n;
+  }
+
+  // "[on] [the] march [the] 3rd [2027]", "[on] [the] 3rd [of] march [2027]".
+  bool read_calendar_date(TimePhrase& phrase) {
+    std::size_t start = at_;
+    accept("on");
+    accept("the");
+    int month = 0, day = 0;
+    if (at_ < w_.size()) {
+      if (auto m = month_of(w_[at_])) {
+        ++at_;
+        accept("the");
+        if (auto d = read_day_number()) {
+          month = *m;
+          day = *d;
+        }
+      } else if (auto d = read_day_number()) {
+        accept("of");
+        if (at_ < w_.size()) {
+          if (auto m2 = month_of(w_[at_])) {
+            ++at_;
+            month = *m2;
+            day = *d;
+          }
+        }
+      }
+    }
+    if (month == 0) {
+      at_ = start;
+      return false;
+    }
+    phrase.month = month;
+    phrase.day_of_month = day;
+    if (at_ < w_.size() && w_[at_].size() == 4) {
+      if (auto y = parse_integer(w_[at_]); y && *y >= 1900 && *y <= 2200) {
+        phrase.year = static_cast<int>(*y);
+        ++at_;
+      }
+    }
+    return true;
   }
 
   // "next week", "this weekend", "over the weekend", "for the week": a span of days.

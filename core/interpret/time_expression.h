@@ -6,6 +6,10 @@
 //                 "20 minutes to 9", "8 in the morning/afternoon/evening", "10 at night"
 //   day           "today", "tonight" (evening hours), "tomorrow", "the day after tomorrow",
 //                 "monday", "on monday", "next monday", "this monday"
+//   calendar date "march 3rd", "on march 3", "the 3rd of march", "3 march", "march the 3rd",
+//                 "mar 3", "sept 21st", "the 20 1st of may" (as normalised), each with an
+//                 optional year ("march 4th 2027"); "may" only with a day number. Numeric
+//                 dates ("12/03/2019") are not read: day/month or month/day is ambiguous.
 //   day range     "this week", "next week", "this weekend", "next weekend" (no time of day;
 //                 resolved against the clock: the weeks run Monday to Sunday)
 //   relative      "in 20 minutes", "in an hour and a half" (nothing else may follow)
@@ -41,6 +45,9 @@ struct TimePhrase {
   std::optional<std::int64_t> in_seconds;   // "in 20 minutes" (kOnce, nothing else)
   std::int64_t every_seconds = 0;           // kInterval
   DayRange range = DayRange::kNone;         // "next week" (kOnce, no time of day)
+  int month = 0;                            // calendar date (kOnce): 1..12, 0 = none
+  int day_of_month = 0;                     // 1..31 with a month
+  int year = 0;                             // 0 = not said
 };
 
 // The whole span must be one expression; nullopt otherwise.

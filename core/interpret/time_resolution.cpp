@@ -95,6 +95,25 @@ class Resolver {
     return {0, 1};
   }
 
+  // The first instant after now at hour:minute on month/day (of `year`, or of this year or
+  // the next when 0); today without a time said is now. nullopt for a day the month lacks.
+  std::optional<UtcMs> calendar_date(int year, int month, int day, int hour, int minute,
+                                     bool time_given) const {
+    const date::year_month_day today{today_};
+    const int first_year = year != 0 ? year : static_cast<int>(today.year());
+    const int last_year = year != 0 ? year : first_year + 4;  // Feb 29: a leap year
+    for (int y = first_year; y <= last_year; ++y) {
+      const date::year_month_day ymd{date::year(y), date::month(static_cast<unsigned>(month)),
+                                     date::day(static_cast<unsigned>(day))};
+      if (!ymd.ok()) continue;  // Feb 29 in a common year: try the next
+      const date::local_days local_day{ymd};
+      UtcMs at = instant(local_day, hour, minute);
+      if (at > now_) return at;
+      if (local_day == today_ && !time_given) return now_;
+    }
+    return std::nullopt;
+  }
+
   LocalMs local(UtcMs at) const { return utc_to_local(*zone_, at); }
   UtcMs now() const { return now_; }
   const date::time_zone* zone() const { return zone_; }
@@ -139,7 +158,7 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
         if (phrase.evening) {
           hour += 12;
         } else if (phrase.kind == RecurrenceKind::kOnce && !phrase.day_offset &&
-                   phrase.weekday_mask == 0) {
+                   phrase.weekday_mask == 0 && phrase.month == 0) {
           both_readings = true;
         } else if (hour <= 6) {
           hour += 12;
@@ -154,6 +173,9 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
           range_days = count;
           at = resolver.first_after_now(first, first, 0, hour, minute);
           if (!at) at = resolver.now();
+        } else if (phrase.month != 0) {
+          at = resolver.calendar_date(phrase.year, phrase.month, phrase.day_of_month, hour,
+                                      minute, phrase.time.has_value());
         } else if (phrase.day_offset) {
           int day = *phrase.day_offset;
           at = resolver.first_after_now(day, day, 0, hour, minute);

@@ -67,7 +67,13 @@ class TolerantRun {
             }
           }
         }
-        with(TolerantCosts::kMissingWord, 0, [&] { step(pc + 1, pos); });
+        // A template word is not missing when a slot took it ("help me find my slippers"
+        // is not `find {what}` with "find" missing and what = the whole sentence).
+        if (!in_a_slot(in.a)) {
+          missing_.push_back(in.a);
+          with(TolerantCosts::kMissingWord, 0, [&] { step(pc + 1, pos); });
+          missing_.pop_back();
+        }
         return;
       }
       case Instruction::Op::kJump:
@@ -85,10 +91,19 @@ class TolerantRun {
       case Instruction::Op::kMatch: {
         float cost = current_.cost + TolerantCosts::kExtraWord * static_cast<float>(n - pos);
         if (cost > TolerantCosts::kMaxCost) return;
+        // Ties go to more literal words, then to the more typed parse (fewer words in
+        // free-text slots: "at 6:30 am" is a time, not a task), as in the exact matcher.
+        std::size_t text_words = 0;
+        for (std::size_t k = 0; k < spans_.size(); ++k) {
+          if (reader_.is_text(current_.slots[k].slot)) text_words += spans_[k].second;
+        }
         if (!best_ || cost < best_->cost ||
-            (cost == best_->cost && current_.literal_words > best_->literal_words)) {
+            (cost == best_->cost && (current_.literal_words > best_->literal_words ||
+                                     (current_.literal_words == best_->literal_words &&
+                                      text_words < best_text_words_)))) {
           best_ = current_;
           best_->cost = cost;
+          best_text_words_ = text_words;
         }
         return;
       }
@@ -109,12 +124,30 @@ class TolerantRun {
     const std::size_t longest = std::min(n - pos, reader_.max_words(slot_index));
     for (std::size_t length = 1; length <= longest; ++length) {
       if (hopeless(current_.cost)) return;
+      // ... and a slot never takes a template word the parse counted as missing.
+      if (is_missing(pos + length - 1)) return;
       const std::optional<SlotValue>& value = read(slot_index, pos, length);
       if (!value) continue;
       current_.slots.push_back({slot_index, *value});
+      spans_.emplace_back(pos, length);
       step(pc + 1, pos + length);
+      spans_.pop_back();
       current_.slots.pop_back();
     }
+  }
+
+  bool is_missing(std::size_t word) const {
+    return std::any_of(missing_.begin(), missing_.end(),
+                       [&](int id) { return word_cost(id, word) >= 0; });
+  }
+
+  bool in_a_slot(int id) const {
+    for (const auto& [pos, length] : spans_) {
+      for (std::size_t k = pos; k < pos + length; ++k) {
+        if (word_cost(id, k) >= 0) return true;
+      }
+    }
+    return false;
   }
 
   // Slot values are parsed once per (slot, start, length): backtracking tries the same
@@ -136,7 +169,10 @@ class TolerantRun {
   const SynonymTable& synonyms_;
   const SlotReader& reader_;
   TolerantMatch current_;
+  std::vector<int> missing_;                                 // template words skipped so far
+  std::vector<std::pair<std::size_t, std::size_t>> spans_;  // the slots' (start, length)
   std::optional<TolerantMatch> best_;
+  std::size_t best_text_words_ = 0;
   int steps_ = 0;
 };
 

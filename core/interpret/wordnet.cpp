@@ -167,6 +167,7 @@ struct WordNet::Impl {
   std::array<SortedLines, 3> index;
   std::array<SortedLines, 3> exceptions;
   std::array<MappedFile, 3> data;
+  SortedLines adverbs;  // index.adv: only asked whether a word is an adverb
 
   // The index line of `lemma` (underscores for spaces) in part `p`, after base-form rules.
   std::optional<std::string_view> lookup(std::size_t p, const std::string& lemma) const {
@@ -229,6 +230,8 @@ std::unique_ptr<WordNet> WordNet::open(const std::filesystem::path& dir, std::st
     std::string ignored;
     impl->exceptions[p].open(dir / (name + ".exc"), ignored);
   }
+  std::string ignored;
+  impl->adverbs.open(dir / "index.adv", ignored);
   return std::unique_ptr<WordNet>(new WordNet(std::move(impl)));
 }
 
@@ -255,6 +258,36 @@ bool WordNet::knows(std::string_view phrase) const {
     if (impl_->index[p].find(lemma)) return true;
   }
   return false;
+}
+
+std::vector<int> WordNet::noun_categories(std::string_view word, int senses) const {
+  std::vector<int> out;
+  if (word.empty() || word.find(' ') != std::string_view::npos) return out;
+  auto line = impl_->lookup(0, std::string(word));
+  if (!line) return out;
+  std::vector<std::string_view> f = fields(*line);
+  if (f.size() < 4) return out;
+  std::size_t synsets = to_number(f[2], 10);
+  std::size_t at = 4 + to_number(f[3], 10) + 2;
+  std::string_view text = impl_->data[0].view();
+  for (std::size_t k = 0; k < synsets && at + k < f.size() && static_cast<int>(k) < senses;
+       ++k) {
+    // A synset line starts `offset lex_filenum ...`.
+    std::size_t offset = to_number(f[at + k], 10);
+    if (offset >= text.size()) continue;
+    std::size_t end = text.find('\n', offset);
+    std::vector<std::string_view> synset = fields(
+        text.substr(offset, (end == std::string_view::npos ? text.size() : end) - offset));
+    if (synset.size() > 1) out.push_back(static_cast<int>(to_number(synset[1], 10)));
+  }
+  return out;
+}
+
+bool WordNet::is_verb_adjective_or_adverb(std::string_view word) const {
+  if (word.empty()) return false;
+  const std::string lemma(word);
+  return impl_->lookup(1, lemma).has_value() || impl_->lookup(2, lemma).has_value() ||
+         impl_->adverbs.find(lemma).has_value();
 }
 
 std::vector<std::string> WordNet::concepts(std::string_view word, int senses,

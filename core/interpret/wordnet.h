@@ -52,6 +52,16 @@ class WordNet {
   // True when `phrase` (words separated by spaces) is a lemma of some part of speech.
   bool knows(std::string_view phrase) const;
 
+  // WordNet's lexicographer file numbers ("lexnames": 4 noun.act, 6 noun.artifact, 10
+  // noun.communication, 18 noun.person, ...; see kNounAct ... below) of the first `senses`
+  // noun senses of `word`, after the base-form rules ("recipes" -> "recipe"). Empty when the
+  // word is no noun.
+  std::vector<int> noun_categories(std::string_view word, int senses) const;
+
+  // True when `word` (after base-form rules) is a verb or adjective lemma, or an adverb
+  // (index.adv, when installed).
+  bool is_verb_adjective_or_adverb(std::string_view word) const;
+
  private:
   struct Impl;
   std::vector<std::string> concepts_in(std::string_view word, int senses, int hypernym_senses,

@@ -17,6 +17,11 @@ TEST_CASE("normalize: case, punctuation, apostrophes") {
   CHECK(normalize("at 8 o'clock") == Words{"at", "8", "o'clock"});
   CHECK(normalize("") == Words{});
   CHECK(normalize("?!.,") == Words{});
+  // Contractions typed without the apostrophe, where the result is no other English word.
+  CHECK(normalize("thats right") == Words{"that", "is", "right"});
+  CHECK(normalize("wheres my phone") == Words{"where", "is", "my", "phone"});
+  CHECK(normalize("it didnt work") == Words{"it", "did", "not", "work"});
+  CHECK(normalize("i feel ill") == Words{"i", "feel", "ill"});  // "ill" is a word: kept
 }
 
 TEST_CASE("normalize: digits, clock times, am/pm") {

@@ -226,3 +226,46 @@ TEST_CASE("time expressions: unknown time zone is reported") {
   CHECK_THROWS_WITH(interpreter.parse_slot({"when", SlotType::kDateTime, {}}, "at 8", context),
                     doctest::Contains("unknown time zone \"Mars/Olympus\""));
 }
+
+TEST_CASE("calendar dates with month names, against Friday 2024-03-29 10:00 Europe/Berlin") {
+  Context context = berlin_friday();
+  struct Case {
+    const char* text;
+    const char* at;  // nullptr: not a time
+  };
+  const Case cases[] = {
+      {"on march 31st", "2024-03-31T09:00"},  // across the spring change (CEST): still 09:00
+      {"april 2", "2024-04-02T09:00"},
+      {"on the 3rd of april at 5 pm", "2024-04-03T17:00"},
+      {"at 5 pm on the 3rd of april", "2024-04-03T17:00"},
+      {"3 april", "2024-04-03T09:00"},           // a day number, not the hour 3
+      {"april the 3rd", "2024-04-03T09:00"},
+      {"the fourth of july", "2024-07-04T09:00"},  // "fourth" normalises to "4th"
+      {"the twenty first of may", "2024-05-21T09:00"},  // "20 1st"
+      {"sept 21st", "2024-09-21T09:00"},
+      {"on feb 2", "2025-02-02T09:00"},    // passed this year: next year
+      {"on march 29", "2024-03-29T10:00"},  // today, no time said: now
+      {"march 29 at 8 am", "2025-03-29T08:00"},  // today's 8 am has passed
+      {"february 29", "2028-02-29T09:00"},  // the next leap day
+      {"march 4th 2027", "2027-03-04T09:00"},
+      {"march 4th 2019", nullptr},  // past: the slot is always a time ahead
+      {"february 30", nullptr},
+      {"march 32nd", nullptr},
+      {"may", nullptr},  // a month needs its day ("may i ...")
+      {"march", nullptr},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.text);
+    nlohmann::json value = when(c.text, context);
+    if (c.at == nullptr) {
+      CHECK(value.is_null());
+      continue;
+    }
+    REQUIRE(value.is_object());
+    CHECK(value["at"] == c.at);
+    CHECK(value["recurrence"]["kind"] == "once");
+  }
+  // A time said with the date is marked as said; without it, 09:00 is assumed.
+  CHECK(when("on april 3rd at 7:30", context)["time_given"] == true);
+  CHECK(when("on april 3rd", context)["time_given"] == false);
+}

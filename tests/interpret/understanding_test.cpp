@@ -94,6 +94,17 @@ float tolerant_cost(const char* text, const char* utterance,
 
 }  // namespace
 
+TEST_CASE("tolerant matching: a slot never takes a template word counted as missing") {
+  // "help me find my slippers" with `find {thing}`: "find" missing and the whole sentence in
+  // the slot (1.25) is no parse; two extra words before "find" (2.0) is.
+  CHECK(tolerant_cost("find {thing}", "help me find my slippers") ==
+        2 * mi::TolerantCosts::kExtraWord);
+  // Nor the other way round: a word missing after the slot is not inside it.
+  CHECK(tolerant_cost("{thing} is on", "the kitchen light on") ==
+        mi::TolerantCosts::kMissingWord);
+  CHECK(tolerant_cost("{thing} is on", "is on") == mi::TolerantCosts::kMissingSlot);
+}
+
 TEST_CASE("normalise: contractions, spellings, ordinals, time formats") {
   CHECK(mi::normalize("What's the time?") == Words{"what", "is", "the", "time"});
   CHECK(mi::normalize("I'd like a reminder") == Words{"i", "would", "like", "a", "reminder"});
@@ -258,4 +269,35 @@ TEST_CASE("bad input: a clear reason, no match, and the interpreter unchanged") 
   CHECK_FALSE(in.match("\xc3\x28 \xa0\xa1 \xf0\x28\x8c\xbc", context));  // invalid UTF-8
   CHECK(in.size() == 3);
   CHECK(in.match("what time is it", context)->intent == "time");
+}
+
+TEST_CASE("an example sentence of an intent without slots, said word for word, is that intent") {
+  Interpreter in = small_home();
+  mi::IntentSpec hello{"greeter", "hello", {"hello [there]", "good morning"}, {}};
+  // "what is ..." is mostly asked of other intents; the author says this one greets.
+  hello.examples = {"what's new with you", "how goes it", "yo"};
+  in.add(hello);
+  const Context context = fixed_context();
+  for (const char* text : {"what's new with you", "hey, what is new with you?", "how goes it",
+                           "please yo"}) {
+    const std::string said = text;
+    CAPTURE(said);
+    Understanding u = in.understand(text, context);
+    REQUIRE(u.outcome == Understanding::Outcome::kMatch);
+    CHECK(u.match->intent == "hello");
+    CHECK(u.reason == "an example sentence word for word");
+  }
+  // An example two intents share decides nothing.
+  mi::IntentSpec wave{"waver", "wave", {"wave at me"}, {}};
+  wave.examples = {"how goes it"};
+  in.add(wave);
+  CHECK(in.understand("how goes it", context).reason != "an example sentence word for word");
+  CHECK(in.understand("yo", context).reason == "an example sentence word for word");
+  // Only word for word: more words go to the model as before.
+  Understanding longer = in.understand("what is new with you and the weather", context);
+  CHECK(longer.reason != "an example sentence word for word");
+  // An intent with slots is matched through its templates, which fill them: its examples
+  // are not taken word for word (the slots would be lost).
+  Understanding reminder = in.understand("wake me up at 6", context);
+  CHECK(reminder.reason != "an example sentence word for word");
 }

@@ -118,6 +118,10 @@ TEST_CASE("dialogue answers in the person's own words: polarity, negation, typos
       {"don't speak any more please", Builtin::kStop},
       {"do not forget the milk", Builtin::kNone},
       {"that is a negative", Builtin::kNo},
+      {"thats not right", Builtin::kNo},  // typed without the apostrophe
+      {"heck yes", Builtin::kYes},        // an intensifier before the answer
+      {"oh god no", Builtin::kNo},
+      {"hell cancel that", Builtin::kStop},
       // Questions and requests are never answers.
       {"is that true", Builtin::kNone},
       {"are you good", Builtin::kNone},
