@@ -71,8 +71,8 @@ struct Wrapper<marvin_status (*marvin_robot_api::*)(marvin_host*, Args...), slot
 
   static marvin_status acting(marvin_host* host, Args... args) {
     marvin_text_out* out = std::get<sizeof...(Args) - 1>(std::forward_as_tuple(args...));
-    static_assert(std::is_same_v<std::remove_cv_t<std::remove_reference_t<decltype(out)>>,
-                                 marvin_text_out*>);
+    static_assert(
+        std::is_same_v<std::remove_cv_t<std::remove_reference_t<decltype(out)>>, marvin_text_out*>);
     if (!host || !out) return (own_functions().*slot)(host, args...);
     KeptAnswer& kept = SkillContext::from(host).kept_answer();
     std::string call = name;
@@ -93,7 +93,8 @@ struct Wrapper<marvin_status (*marvin_robot_api::*)(marvin_host*, Args...), slot
     answer_watch = &watch;
     const marvin_status status = (own_functions().*slot)(host, args...);
     answer_watch = outer;
-    if (status == MARVIN_ERR_TRUNCATED && watch.full) kept.keep(std::move(call), std::move(*watch.full));
+    if (status == MARVIN_ERR_TRUNCATED && watch.full)
+      kept.keep(std::move(call), std::move(*watch.full));
     return status;
   }
 };

@@ -15,8 +15,9 @@ namespace {
 
 std::size_t lua_turns(const marvin::testing::MockRobot& robot) {
   const auto& actions = robot.actions();
-  return static_cast<std::size_t>(std::count_if(
-      actions.begin(), actions.end(), [](const std::string& a) { return a.rfind("turn", 0) == 0; }));
+  return static_cast<std::size_t>(
+      std::count_if(actions.begin(), actions.end(),
+                    [](const std::string& a) { return a.rfind("turn", 0) == 0; }));
 }
 
 TEST_CASE("a Lua skill's look_around turns one circle however long the answer") {
@@ -24,8 +25,10 @@ TEST_CASE("a Lua skill's look_around turns one circle however long the answer") 
   robot.add_place("hall", "hall");
   robot.set_room("hall");
   nlohmann::json objects = nlohmann::json::array();
-  for (int i = 0; i < 12; ++i) objects.push_back({{"label", "cup"}, {"box", {40 * i, 300, 30, 30}}});
-  robot.set_room_view("hall", nlohmann::json{{"faces", nlohmann::json::array()}, {"objects", objects}}.dump());
+  for (int i = 0; i < 12; ++i)
+    objects.push_back({{"label", "cup"}, {"box", {40 * i, 300, 30, 30}}});
+  robot.set_room_view(
+      "hall", nlohmann::json{{"faces", nlohmann::json::array()}, {"objects", objects}}.dump());
 
   // One look into a buffer it fits at once: how many turns one circle is, and how long.
   std::string roomy(1 << 20, '\0');

@@ -20,9 +20,9 @@ std::string crowded_view() {
 
 std::size_t turns(const marvin::testing::MockRobot& robot) {
   const auto& actions = robot.actions();
-  return static_cast<std::size_t>(std::count_if(actions.begin(), actions.end(), [](const std::string& a) {
-    return a.rfind("turn", 0) == 0;
-  }));
+  return static_cast<std::size_t>(
+      std::count_if(actions.begin(), actions.end(),
+                    [](const std::string& a) { return a.rfind("turn", 0) == 0; }));
 }
 
 struct LookingRobot {
@@ -72,7 +72,8 @@ TEST_CASE("a retry still too small keeps the answer; another call in between dro
   std::string small(16, '\0');
   REQUIRE(r.look(&small, &length) == MARVIN_ERR_TRUNCATED);  // still too small: kept again
   CHECK(turns(r.robot) == one_circle);
-  CHECK(std::string(r.robot.api()->last_error(r.robot.host())) == "the answer did not fit the buffer");
+  CHECK(std::string(r.robot.api()->last_error(r.robot.host())) ==
+        "the answer did not fit the buffer");
 
   std::int64_t now = 0;
   REQUIRE(r.robot.api()->now(r.robot.host(), &now) == MARVIN_OK);  // another call
@@ -108,7 +109,7 @@ TEST_CASE("the C++ layer's look_around: one circle however long the answer") {
   std::string roomy(1 << 20, '\0');
   std::size_t length = 0;
   REQUIRE(r.look(&roomy, &length) == MARVIN_OK);  // fits at once: one circle for sure
-  REQUIRE(length > 512);                            // longer than the C++ layer's first buffer
+  REQUIRE(length > 512);                          // longer than the C++ layer's first buffer
   const std::size_t one_circle = turns(r.robot);
   REQUIRE(one_circle > 0);
   r.robot.clear();

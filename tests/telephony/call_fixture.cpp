@@ -142,7 +142,10 @@ TestPeer::TestPeer(const std::filesystem::path& dir, bool auto_answer, std::stri
       record_dir_(dir / "recordings"),
       ua_(
           [&] {
-            PhoneSettings s = settings_for(user_, pick_free_port(true), dir);
+            // Port 0: baresip's supervisor chooses it, and chooses again when another
+            // program takes it first (a port chosen here could be taken before the start).
+            PhoneSettings s = settings_for(user_, 0, dir);
+            s.account_uri = "sip:" + user_ + "@127.0.0.1";
             s.auto_answer = auto_answer;
             return s;
           }(),
@@ -151,7 +154,9 @@ TestPeer::TestPeer(const std::filesystem::path& dir, bool auto_answer, std::stri
   if (!ua_.wait_ready(kWait)) throw std::runtime_error("the test peer's baresip did not start");
 }
 
-std::string TestPeer::uri() const { return ua_.settings().account_uri; }
+std::string TestPeer::uri() const {
+  return "sip:" + user_ + "@127.0.0.1:" + std::to_string(ua_.sip_port());
+}
 
 PhoneSettings marvin_settings(const std::filesystem::path& dir,
                               const std::filesystem::path& audio_in) {

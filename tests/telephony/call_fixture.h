@@ -83,6 +83,8 @@ class EventLog {
 class TestPeer {
  public:
   TestPeer(const std::filesystem::path& dir, bool auto_answer, std::string user = "peer");
+  // Where to call it: sip:<user>@127.0.0.1:<its SIP port now>. Its own address (what
+  // Marvin sees as the caller) is sip:<user>@127.0.0.1.
   std::string uri() const;
   Baresip& ua() { return ua_; }
   EventLog<BaresipEvent>& events() { return events_; }

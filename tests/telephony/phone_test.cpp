@@ -44,7 +44,8 @@ struct MarvinPhone {
 // Most tests: a test peer and Marvin's phone (playing `marvin_tone_hz`, or ausine's tone
 // when 0) in one temporary directory.
 struct PhoneLine {
-  explicit PhoneLine(bool peer_answers, std::chrono::milliseconds no_answer = std::chrono::seconds(20),
+  explicit PhoneLine(bool peer_answers,
+                     std::chrono::milliseconds no_answer = std::chrono::seconds(20),
                      double marvin_tone_hz = 0)
       : peer(dir / "peer", peer_answers),
         marvin(dir / "marvin", tone_file(dir.path(), marvin_tone_hz), no_answer) {}
@@ -129,7 +130,7 @@ TEST_CASE("an incoming call is announced, answered, then declined the next time"
   REQUIRE(peer.ua().command("dial", marvin.uri()).ok);
   const auto incoming = marvin.wait(Kind::kIncoming);
   REQUIRE(incoming);
-  CHECK(incoming->peer_uri == peer.uri());
+  CHECK(incoming->peer_uri == peer.ua().settings().account_uri);
   CHECK(marvin.phone.state() == CallState::kIncoming);
   CHECK(marvin.phone.answer());
   REQUIRE(marvin.wait(Kind::kAnswered));
@@ -289,7 +290,8 @@ struct EmergencyLine {
   EmergencyCall& call_for_help(std::vector<EmergencyContact> contacts) {
     {
       std::lock_guard lock(mutex);
-      call.emplace(phone, std::move(contacts), [this](const std::string& text) { steps.add(text); });
+      call.emplace(phone, std::move(contacts),
+                   [this](const std::string& text) { steps.add(text); });
     }
     call->start();
     return *call;

@@ -125,8 +125,8 @@ TEST_CASE("a SIP port taken before baresip binds it: new ports, said in the log,
                         " (new ports 1 of at most 5)") != std::string::npos);
   CHECK(marvin.phone.dial(peer.uri()) == "");
   std::size_t seen = 0;
-  REQUIRE(marvin.events.wait([](const PhoneEvent& e) { return e.kind == PhoneEvent::Kind::kAnswered; },
-                             &seen));
+  REQUIRE(marvin.events.wait(
+      [](const PhoneEvent& e) { return e.kind == PhoneEvent::Kind::kAnswered; }, &seen));
   CHECK(marvin.phone.hang_up());
 }
 

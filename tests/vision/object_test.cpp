@@ -75,7 +75,8 @@ std::vector<DetectedObject> detect_in(const char* name) {
 const DetectedObject& require_at(const std::vector<DetectedObject>& found, const std::string& coco,
                                  cv::Point2f centre) {
   const DetectedObject* o = found_at(found, coco, centre);
-  REQUIRE_MESSAGE(o != nullptr, "no " << coco << " around (" << centre.x << ", " << centre.y << ")");
+  REQUIRE_MESSAGE(o != nullptr,
+                  "no " << coco << " around (" << centre.x << ", " << centre.y << ")");
   return *o;
 }
 
@@ -264,7 +265,8 @@ TEST_CASE("a real photo runs through the object detector graph node") {
   register_vision_nodes();
   TempDir dir;
   graph::GraphConfig config;
-  config.add_node("camera", "CameraSource", {{"camera", camera_showing(dir.path(), "person.jpg")}});
+  config.add_node("camera", "CameraSource",
+                  {{"camera", camera_showing(dir.path(), "person.jpg")}});
   config.add_node("objects", "ObjectDetectorNode", {{"min_score", 0.4}});
   config.add_node("log", "ObjectLogger");
   config.connect("camera.frames", "objects.in");
@@ -297,8 +299,9 @@ TEST_CASE("run --sim: \"what do you see?\" names the bicycle in front of the rob
 
 TEST_CASE("marvin vision look PHOTO prints the objects with the faces") {
   TempDir dir;
-  test_support::ChildProcess p({marvin_program(), "vision", "look", darknet_photo("dog.jpg").string(),
-                                "--data-dir", (dir / "data").string()});
+  test_support::ChildProcess p({marvin_program(), "vision", "look",
+                                darknet_photo("dog.jpg").string(), "--data-dir",
+                                (dir / "data").string()});
   REQUIRE(test_support::exit_code(p.finish()) == 0);
   const auto line = nlohmann::json::parse(p.output());
   REQUIRE(line["objects"].is_array());
