@@ -1,13 +1,14 @@
 #include "skills/guard.h"
 
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "common/log.h"
 
 namespace marvin::skills {
 
-Guard::Guard(Eyes& eyes, navigation::GoingPlaces* places, std::function<std::int64_t()> now_ms,
-             std::function<void(const std::string&, const std::string&)> alert,
+Guard::Guard(Eyes &eyes, navigation::GoingPlaces *places, std::function<std::int64_t()> now_ms,
+             std::function<void(const std::string &, const std::string &)> alert,
              GuardOptions options)
     : eyes_(eyes),
       places_(places),
@@ -25,6 +26,45 @@ Guard::~Guard() {
   if (thread_.joinable()) thread_.join();
 }
 
+std::string guard_state_json(const GuardState &s) {
+  return nlohmann::json{
+      {"on", s.on}, {"since_unix_ms", s.since_ms}, {"alerts", s.alerts}, {"by", s.by}}
+      .dump();
+}
+
+GuardState guard_state_from_json(const std::string &text) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error &e) {
+    throw std::invalid_argument("the guard state is not JSON (byte " + std::to_string(e.byte) +
+                                ")");
+  }
+  using Json = nlohmann::json;
+  auto field = [&](const char *name, bool (Json::*is_type)() const noexcept) -> const Json & {
+    if (!j.is_object() || !j.contains(name) || !(j[name].*is_type)()) {
+      throw std::invalid_argument(std::string("the guard state's '") + name +
+                                  "' is missing or of the wrong type");
+    }
+    return j[name];
+  };
+  GuardState s;
+  s.on = field("on", &Json::is_boolean).get<bool>();
+  s.since_ms = field("since_unix_ms", &Json::is_number_integer).get<std::int64_t>();
+  s.alerts = field("alerts", &Json::is_number_integer).get<int>();
+  s.by = field("by", &Json::is_string).get<std::string>();
+  return s;
+}
+
+void Guard::tell(const GuardState &s) {
+  if (!options_.changed) return;
+  try {
+    options_.changed(s);
+  } catch (const std::exception &e) {
+    log(LogLevel::kWarning, "guard", std::string("state not kept: ") + e.what());
+  }
+}
+
 GuardState Guard::on() {
   std::unique_lock lock(mutex_);
   if (state_.on) return state_;
@@ -35,10 +75,13 @@ GuardState Guard::on() {
   }
   state_ = GuardState{true, now_ms_(), 0, ""};
   if (options_.watch) thread_ = std::thread([this] { run(); });
-  return state_;
+  const GuardState s = state_;
+  lock.unlock();
+  tell(s);
+  return s;
 }
 
-GuardState Guard::off(const std::string& by) {
+GuardState Guard::off(const std::string &by) {
   std::thread ending;
   GuardState s;
   {
@@ -50,6 +93,7 @@ GuardState Guard::off(const std::string& by) {
   }
   wake_.notify_all();
   if (ending.joinable()) ending.join();
+  tell(s);
   return s;
 }
 
@@ -70,16 +114,37 @@ void Guard::run() {
   int streak = 0, looks = 0;
   bool alerted_here = false;  // one alert per stop
   while (!wait(options_.look)) {
+    if (options_.off_requested) {
+      GuardState s = state();
+      bool off = false;
+      try {
+        off = s.on && options_.off_requested(s);
+      } catch (const std::exception &e) {
+        log(LogLevel::kWarning, "guard", std::string("cannot read an off request: ") + e.what());
+      }
+      if (off) {
+        {
+          std::lock_guard lock(mutex_);
+          if (!state_.on) break;  // off() meanwhile: it tells
+          state_.on = false;
+          state_.by = kOffByCommandLine;
+          s = state_;
+        }
+        tell(s);
+        break;
+      }
+    }
     std::string seen;
     try {
       seen = eyes_.look_json();
-    } catch (const std::exception& e) {
-      log(LogLevel::kWarning, "guard", e.what());  // a camera failure: try again later
+    } catch (const std::exception &e) {
+      log(LogLevel::kWarning, "guard",
+          e.what());  // a camera failure: try again later
       streak = 0;
       continue;
     }
     int unknown = 0;
-    for (const auto& f : nlohmann::json::parse(seen).value("faces", nlohmann::json::array())) {
+    for (const auto &f : nlohmann::json::parse(seen).value("faces", nlohmann::json::array())) {
       const auto box = f.value("box", nlohmann::json::array());
       const double h = box.size() == 4 ? box[3].get<double>() : 0;
       if (f.value("name", "").empty() && h >= options_.min_face_px) ++unknown;
@@ -90,16 +155,19 @@ void Guard::run() {
       std::string photo;
       try {
         photo = eyes_.capture_photo("guard");
-      } catch (const std::exception& e) {
+      } catch (const std::exception &e) {
         log(LogLevel::kWarning, "guard", std::string("no photo of the intruder: ") + e.what());
       }
+      GuardState now;
       {
         std::lock_guard lock(mutex_);
         if (!state_.on) break;
         ++state_.alerts;
+        now = state_;
       }
-      alert_(photo, unknown == 1 ? "someone I don't know" : std::to_string(unknown) +
-                                                                " people I don't know");
+      tell(now);
+      alert_(photo, unknown == 1 ? "someone I don't know"
+                                 : std::to_string(unknown) + " people I don't know");
     }
     if (++looks >= options_.looks_per_stop && options_.looks_per_stop > 0 && places_ &&
         options_.turn_deg != 0 && streak == 0) {
