@@ -7,8 +7,8 @@
 
 namespace marvin::skills {
 
-Guard::Guard(Eyes &eyes, navigation::GoingPlaces *places, std::function<std::int64_t()> now_ms,
-             std::function<void(const std::string &, const std::string &)> alert,
+Guard::Guard(Eyes& eyes, navigation::GoingPlaces* places, std::function<std::int64_t()> now_ms,
+             std::function<void(const std::string&, const std::string&)> alert,
              GuardOptions options)
     : eyes_(eyes),
       places_(places),
@@ -17,31 +17,38 @@ Guard::Guard(Eyes &eyes, navigation::GoingPlaces *places, std::function<std::int
       options_(options) {}
 
 Guard::~Guard() {
+  GuardState s;
+  bool was_on = false;
   {
     std::lock_guard lock(mutex_);
     quit_ = true;
+    was_on = state_.on;
     state_.on = false;
+    if (was_on) state_.by = kOffByShutdown;
+    s = state_;
   }
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
+  // Nobody watches any more: `marvin guard status` must not say "on".
+  if (was_on) tell(s);
 }
 
-std::string guard_state_json(const GuardState &s) {
+std::string guard_state_json(const GuardState& s) {
   return nlohmann::json{
       {"on", s.on}, {"since_unix_ms", s.since_ms}, {"alerts", s.alerts}, {"by", s.by}}
       .dump();
 }
 
-GuardState guard_state_from_json(const std::string &text) {
+GuardState guard_state_from_json(const std::string& text) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error &e) {
+  } catch (const nlohmann::json::parse_error& e) {
     throw std::invalid_argument("the guard state is not JSON (byte " + std::to_string(e.byte) +
                                 ")");
   }
   using Json = nlohmann::json;
-  auto field = [&](const char *name, bool (Json::*is_type)() const noexcept) -> const Json & {
+  auto field = [&](const char* name, bool (Json::*is_type)() const noexcept) -> const Json& {
     if (!j.is_object() || !j.contains(name) || !(j[name].*is_type)()) {
       throw std::invalid_argument(std::string("the guard state's '") + name +
                                   "' is missing or of the wrong type");
@@ -56,11 +63,11 @@ GuardState guard_state_from_json(const std::string &text) {
   return s;
 }
 
-void Guard::tell(const GuardState &s) {
+void Guard::tell(const GuardState& s) {
   if (!options_.changed) return;
   try {
     options_.changed(s);
-  } catch (const std::exception &e) {
+  } catch (const std::exception& e) {
     log(LogLevel::kWarning, "guard", std::string("state not kept: ") + e.what());
   }
 }
@@ -81,7 +88,7 @@ GuardState Guard::on() {
   return s;
 }
 
-GuardState Guard::off(const std::string &by) {
+GuardState Guard::off(const std::string& by) {
   std::thread ending;
   GuardState s;
   {
@@ -119,7 +126,7 @@ void Guard::run() {
       bool off = false;
       try {
         off = s.on && options_.off_requested(s);
-      } catch (const std::exception &e) {
+      } catch (const std::exception& e) {
         log(LogLevel::kWarning, "guard", std::string("cannot read an off request: ") + e.what());
       }
       if (off) {
@@ -137,14 +144,14 @@ void Guard::run() {
     std::string seen;
     try {
       seen = eyes_.look_json();
-    } catch (const std::exception &e) {
+    } catch (const std::exception& e) {
       log(LogLevel::kWarning, "guard",
           e.what());  // a camera failure: try again later
       streak = 0;
       continue;
     }
     int unknown = 0;
-    for (const auto &f : nlohmann::json::parse(seen).value("faces", nlohmann::json::array())) {
+    for (const auto& f : nlohmann::json::parse(seen).value("faces", nlohmann::json::array())) {
       const auto box = f.value("box", nlohmann::json::array());
       const double h = box.size() == 4 ? box[3].get<double>() : 0;
       if (f.value("name", "").empty() && h >= options_.min_face_px) ++unknown;
@@ -155,7 +162,7 @@ void Guard::run() {
       std::string photo;
       try {
         photo = eyes_.capture_photo("guard");
-      } catch (const std::exception &e) {
+      } catch (const std::exception& e) {
         log(LogLevel::kWarning, "guard", std::string("no photo of the intruder: ") + e.what());
       }
       GuardState now;

@@ -54,3 +54,19 @@ TEST_CASE("guard: the stored state reads back; a broken one names its field") {
   CHECK_THROWS_WITH(marvin::skills::guard_state_from_json("{"),
                     doctest::Contains("the guard state is not JSON"));
 }
+
+TEST_CASE("guard: ended with the program while on, it tells that nobody watches any more") {
+  marvin::skills::ScriptedEyes eyes([](std::string) {});
+  std::vector<GuardState> told;
+  {
+    GuardOptions o;
+    o.look = std::chrono::milliseconds(5);
+    o.changed = [&](const GuardState& s) { told.push_back(s); };  // this thread: on, the end
+    Guard guard(eyes, nullptr, [] { return std::int64_t{7}; },
+                [](const std::string&, const std::string&) {}, o);
+    guard.on();
+  }
+  REQUIRE(told.size() == 2);
+  CHECK_FALSE(told[1].on);
+  CHECK(told[1].by == marvin::skills::kOffByShutdown);
+}
