@@ -357,6 +357,19 @@ void Host::wire_finding() {
   if (!eyes_) return;
   skills::GuardOptions guard;
   if (services_.going_places) guard.time_scale = services_.going_places->time_scale();
+  if (store_) {  // `marvin guard status|off` from another process (cli_guard.cpp)
+    guard.changed = [this](const skills::GuardState& s) {
+      store_->storage_set(skills::kGuardStorageId, skills::kGuardStateKey,
+                          skills::guard_state_json(s));
+      if (!s.on && s.by == skills::kOffByCommandLine) {
+        loop_->say("Guard mode is off: it was turned off from the command line.");
+      }
+    };
+    guard.off_requested = [this](const skills::GuardState& s) {
+      auto request = store_->storage_get(skills::kGuardStorageId, skills::kGuardOffKey);
+      return request && *request == std::to_string(s.since_ms);
+    };
+  }
   guard_ = std::make_unique<skills::Guard>(
       *eyes_, services_.going_places, services_.now_ms,
       [this](const std::string& photo, const std::string& who) {

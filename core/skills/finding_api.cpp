@@ -1,111 +1,78 @@
 // Robot API 1.3, finding and guarding (issue 22): look_around, sightings_find,
-// rooms_to_search, place_find, turn, guard, events_list. The sightings every look records.
+// rooms_to_search, place_find, turn, guard, events_list. The sightings every
+// look records.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "common/log.h"
-#include "skills/host_api.h"
+#include "skills/host_call.h"
 
 namespace marvin::skills {
 namespace {
 
+using host_call::fail;
+using host_call::guarded;
+using host_call::need;
+using host_call::need_service;
 using nlohmann::json;
 
 constexpr double kFindPi = 3.14159265358979323846;
-// The head camera (sim/README.md; the real one is close): 60 degrees across 640 pixels.
+// The head camera (sim/README.md; the real one is close): 60 degrees across 640
+// pixels.
 constexpr double kFieldOfViewDeg = 60;
-// Sizes for a distance from a box's height: a face (chin to brow) and a small thing.
+// Sizes for a distance from a box's height: a face (chin to brow) and a small
+// thing.
 constexpr double kFaceHeightM = 0.18, kThingHeightM = 0.25;
 
-template <class F>
-marvin_status finding_call(marvin_host* host, F&& body) {
-  if (!host) return MARVIN_ERR_INVALID;
-  SkillContext& c = SkillContext::from(host);
-  c.last_error.clear();
-  try {
-    return body(c);
-  } catch (const EyesUnavailable& e) {
-    c.last_error = e.what();
-    return MARVIN_ERR_UNAVAILABLE;
-  } catch (const std::exception& e) {
-    c.last_error = e.what();
-    return MARVIN_ERR_INTERNAL;
-  } catch (...) {
-    c.last_error = "unknown error in the host";
-    return MARVIN_ERR_INTERNAL;
-  }
-}
-
-marvin_status finding_fail(SkillContext& c, marvin_status status, std::string sentence) {
-  c.last_error = std::move(sentence);
-  return status;
-}
-
-// Permission, arguments and services in one check; MARVIN_OK when all are there.
-marvin_status finding_need(SkillContext& c, std::initializer_list<const char*> permissions,
-                           bool service, const char* what) {
-  for (const char* p : permissions) {
-    if (!c.has_permission(p)) {
-      return finding_fail(c, MARVIN_ERR_PERMISSION,
-                          std::string("permission '") + p + "' is not granted to skill '" +
-                              c.skill_id() + "'");
-    }
-  }
-  if (!service) return finding_fail(c, MARVIN_ERR_UNAVAILABLE, std::string("this robot has no ") + what);
-  return MARVIN_OK;
-}
-
-#define FINDING_TRY(expr)                                      \
-  do {                                                         \
-    if (marvin_status s_ = (expr); s_ != MARVIN_OK) return s_; \
-  } while (0)
-
-navigation::WaitFn finding_wait(SkillContext& c, navigation::GoingPlaces& going) {
+navigation::WaitFn finding_wait(SkillContext &c, navigation::GoingPlaces &going) {
   const double scale = going.time_scale() > 0 ? going.time_scale() : 1.0;
   return [&c, scale](std::chrono::milliseconds robot_ms) {
-    auto wall = static_cast<std::uint32_t>(
-        std::max(1.0, static_cast<double>(robot_ms.count()) / scale));
+    auto wall =
+        static_cast<std::uint32_t>(std::max(1.0, static_cast<double>(robot_ms.count()) / scale));
     return c.wait_cancelled_for(wall);
   };
 }
 
-marvin_status api_look_around(marvin_host* host, uint32_t stops, marvin_text_out* out) {
-  return finding_call(host, [&](SkillContext& c) {
-    if (!out) return finding_fail(c, MARVIN_ERR_INVALID, "the output buffer is NULL");
+marvin_status api_look_around(marvin_host *host, uint32_t stops, marvin_text_out *out) {
+  return guarded(host, [&](SkillContext &c) {
+    if (!out) return fail(c, MARVIN_ERR_INVALID, "the output buffer is NULL");
     if (stops == 0) stops = 8;
     if (stops < 4 || stops > 12) {
-      return finding_fail(c, MARVIN_ERR_INVALID,
-                          "stops is " + std::to_string(stops) + ", expected 4 to 12 (or 0)");
+      return fail(c, MARVIN_ERR_INVALID,
+                  "stops is " + std::to_string(stops) + ", expected 4 to 12 (or 0)");
     }
-    FINDING_TRY(finding_need(c, {"camera", "motion"}, c.services().eyes, "camera"));
-    FINDING_TRY(finding_need(c, {}, c.services().going_places, "map to turn and look with"));
-    navigation::GoingPlaces& going = *c.services().going_places;
+    MARVIN_TRY(need(c, {"camera", "motion"}));
+    MARVIN_TRY(need_service(c, c.services().eyes, "camera"));
+    MARVIN_TRY(need_service(c, c.services().going_places, "map to turn and look with"));
+    navigation::GoingPlaces &going = *c.services().going_places;
     json seen = json::array();
     const double step = 360.0 / stops;
     for (std::uint32_t i = 0; i < stops; ++i) {
-      if (c.cancelled()) return finding_fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
-      for (json& s : record_sightings(c, c.services().eyes->look_json(), step * i)) {
+      if (c.cancelled()) return fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
+      for (json &s : record_sightings(c, c.services().eyes->look_json(), step * i)) {
         seen.push_back(std::move(s));
       }
       if (i + 1 < stops && !going.turn(step, finding_wait(c, going))) {
         going.stop();
-        return finding_fail(c, MARVIN_ERR_CANCELLED, "the motion was stopped");
+        return fail(c, MARVIN_ERR_CANCELLED, "the motion was stopped");
       }
     }
-    // Back to where it looked first, so a skill's next go_to starts as it expects.
+    // Back to where it looked first, so a skill's next go_to starts as it
+    // expects.
     going.turn(step, finding_wait(c, going));
     return write_text(out, json{{"stops", stops}, {"seen", seen}}.dump());
   });
 }
 
-marvin_status api_sightings_find(marvin_host* host, const char* what, int64_t since,
-                                 marvin_text_out* out) {
-  return finding_call(host, [&](SkillContext& c) {
-    if (!what || !out) return finding_fail(c, MARVIN_ERR_INVALID, "what or the output is NULL");
-    FINDING_TRY(finding_need(c, {"camera"}, c.services().sightings, "sightings log"));
+marvin_status api_sightings_find(marvin_host *host, const char *what, int64_t since,
+                                 marvin_text_out *out) {
+  return guarded(host, [&](SkillContext &c) {
+    if (!what || !out) return fail(c, MARVIN_ERR_INVALID, "what or the output is NULL");
+    MARVIN_TRY(need(c, "camera"));
+    MARVIN_TRY(need_service(c, c.services().sightings, "sightings log"));
     json rows = json::array();
-    for (const data::Sighting& s : c.services().sightings->find(what, since)) {
+    for (const data::Sighting &s : c.services().sightings->find(what, since)) {
       rows.push_back({{"what", s.what},
                       {"kind", s.kind},
                       {"room", s.room},
@@ -116,72 +83,77 @@ marvin_status api_sightings_find(marvin_host* host, const char* what, int64_t si
   });
 }
 
-marvin_status api_rooms_to_search(marvin_host* host, marvin_text_out* out) {
-  return finding_call(host, [&](SkillContext& c) {
-    if (!out) return finding_fail(c, MARVIN_ERR_INVALID, "the output buffer is NULL");
-    FINDING_TRY(finding_need(c, {"sensors"}, c.services().going_places, "map"));
+marvin_status api_rooms_to_search(marvin_host *host, marvin_text_out *out) {
+  return guarded(host, [&](SkillContext &c) {
+    if (!out) return fail(c, MARVIN_ERR_INVALID, "the output buffer is NULL");
+    MARVIN_TRY(need(c, "sensors"));
+    MARVIN_TRY(need_service(c, c.services().going_places, "map"));
     return write_text(out, json(c.services().going_places->rooms_to_search()).dump());
   });
 }
 
-marvin_status api_place_find(marvin_host* host, const char* name, marvin_text_out* out) {
-  return finding_call(host, [&](SkillContext& c) {
-    if (!name || !out) return finding_fail(c, MARVIN_ERR_INVALID, "name or the output is NULL");
-    FINDING_TRY(finding_need(c, {"sensors"}, c.services().going_places, "map"));
+marvin_status api_place_find(marvin_host *host, const char *name, marvin_text_out *out) {
+  return guarded(host, [&](SkillContext &c) {
+    if (!name || !out) return fail(c, MARVIN_ERR_INVALID, "name or the output is NULL");
+    MARVIN_TRY(need(c, "sensors"));
+    MARVIN_TRY(need_service(c, c.services().going_places, "map"));
     auto place = c.services().going_places->find_place(name);
     if (!place) {
-      return finding_fail(c, MARVIN_ERR_NOT_FOUND,
-                          std::string("the map has no room, place or person called '") + name +
-                              "'");
+      return fail(c, MARVIN_ERR_NOT_FOUND,
+                  std::string("the map has no room, place or person called '") + name + "'");
     }
-    return write_text(out,
-                      json{{"name", place->name}, {"kind", place->kind}, {"room", place->room}}
-                          .dump());
+    return write_text(
+        out, json{{"name", place->name}, {"kind", place->kind}, {"room", place->room}}.dump());
   });
 }
 
-marvin_status api_turn(marvin_host* host, int32_t degrees) {
-  return finding_call(host, [&](SkillContext& c) {
+marvin_status api_turn(marvin_host *host, int32_t degrees) {
+  return guarded(host, [&](SkillContext &c) {
     if (degrees < -360 || degrees > 360) {
-      return finding_fail(c, MARVIN_ERR_INVALID,
-                          "degrees is " + std::to_string(degrees) + ", expected -360 to 360");
+      return fail(c, MARVIN_ERR_INVALID,
+                  "degrees is " + std::to_string(degrees) + ", expected -360 to 360");
     }
-    FINDING_TRY(finding_need(c, {"motion"}, c.services().going_places, "map to turn with"));
-    navigation::GoingPlaces& going = *c.services().going_places;
+    MARVIN_TRY(need(c, "motion"));
+    MARVIN_TRY(need_service(c, c.services().going_places, "map to turn with"));
+    navigation::GoingPlaces &going = *c.services().going_places;
     if (c.cancelled() || !going.turn(degrees, finding_wait(c, going))) {
       going.stop();
-      return finding_fail(c, MARVIN_ERR_CANCELLED, "the motion was stopped");
+      return fail(c, MARVIN_ERR_CANCELLED, "the motion was stopped");
     }
     return MARVIN_OK;
   });
 }
 
-json guard_json(const GuardState& s) {
+json guard_json(const GuardState &s) {
   return {{"on", s.on}, {"since_unix_ms", s.since_ms}, {"alerts", s.alerts}, {"by", s.by}};
 }
 
-marvin_status api_guard(marvin_host* host, int32_t mode, marvin_text_out* out) {
-  return finding_call(host, [&](SkillContext& c) {
+marvin_status api_guard(marvin_host *host, int32_t mode, marvin_text_out *out) {
+  return guarded(host, [&](SkillContext &c) {
     if (mode < -1 || mode > 1) {
-      return finding_fail(c, MARVIN_ERR_INVALID,
-                          "mode is " + std::to_string(mode) + ", expected 1 (on), 0 (off) or -1");
+      return fail(c, MARVIN_ERR_INVALID,
+                  "mode is " + std::to_string(mode) + ", expected 1 (on), 0 (off) or -1");
     }
-    FINDING_TRY(finding_need(c, {"camera"}, c.services().guard, "guard mode (no camera)"));
-    Guard& guard = *c.services().guard;
+    MARVIN_TRY(need(c, "camera"));
+    MARVIN_TRY(need_service(c, c.services().guard, "guard mode (no camera)"));
+    Guard &guard = *c.services().guard;
     GuardState state;
     if (mode == 1) {
       state = guard.on();
     } else if (mode == 0) {
-      // Only someone Marvin knows may call the guard off: a known face in view now.
+      // Only someone Marvin knows may call the guard off: a known face in view
+      // now.
       std::string known;
       if (c.services().eyes) {
-        for (const json& f : json::parse(c.services().eyes->look_json()).value("faces", json::array())) {
+        for (const json &f :
+             json::parse(c.services().eyes->look_json()).value("faces", json::array())) {
           if (!f.value("name", "").empty()) known = f.value("name", "");
         }
       }
       if (known.empty()) {
-        return finding_fail(c, MARVIN_ERR_PERMISSION,
-                            "I can only stop guarding for someone I know, and I see no face I know");
+        return fail(c, MARVIN_ERR_PERMISSION,
+                    "I can only stop guarding for someone I know, and I see no "
+                    "face I know");
       }
       state = guard.off(known);
     } else {
@@ -192,13 +164,14 @@ marvin_status api_guard(marvin_host* host, int32_t mode, marvin_text_out* out) {
   });
 }
 
-marvin_status api_events_list(marvin_host* host, const char* kind, int64_t since,
-                              marvin_text_out* out) {
-  return finding_call(host, [&](SkillContext& c) {
-    if (!kind || !out) return finding_fail(c, MARVIN_ERR_INVALID, "kind or the output is NULL");
-    FINDING_TRY(finding_need(c, {"events"}, static_cast<bool>(c.services().events), "event log"));
+marvin_status api_events_list(marvin_host *host, const char *kind, int64_t since,
+                              marvin_text_out *out) {
+  return guarded(host, [&](SkillContext &c) {
+    if (!kind || !out) return fail(c, MARVIN_ERR_INVALID, "kind or the output is NULL");
+    MARVIN_TRY(need(c, "events"));
+    MARVIN_TRY(need_service(c, c.services().events, "event log"));
     json rows = json::array();
-    for (const auto& e : c.services().events(kind, since)) {
+    for (const auto &e : c.services().events(kind, since)) {
       rows.push_back({{"kind", e.kind}, {"message", e.message}, {"time_unix_ms", e.time_ms}});
     }
     return write_text(out, rows.dump());
@@ -207,13 +180,13 @@ marvin_status api_events_list(marvin_host* host, const char* kind, int64_t since
 
 }  // namespace
 
-json record_sightings(SkillContext& c, const std::string& seen_json, double bearing_offset_deg) {
+json record_sightings(SkillContext &c, const std::string &seen_json, double bearing_offset_deg) {
   json out = json::array();
   try {
     const json seen = json::parse(seen_json);
     const double width = seen.value("width", 640.0);
     const double focal = width / 2 / std::tan(kFieldOfViewDeg / 2 * kFindPi / 180);
-    auto add = [&](const json& item, const std::string& kind, const std::string& name,
+    auto add = [&](const json &item, const std::string &kind, const std::string &name,
                    double real_height) {
       const json box = item.value("box", json::array({0, 0, 0, 0}));
       const double cx = box[0].get<double>() + box[2].get<double>() / 2;
@@ -226,7 +199,7 @@ json record_sightings(SkillContext& c, const std::string& seen_json, double bear
                  {"distance_m", std::round(distance * 10) / 10},
                  {"room", ""},
                  {"near", ""}};
-      if (navigation::GoingPlaces* going = c.services().going_places) {
+      if (navigation::GoingPlaces *going = c.services().going_places) {
         if (auto spot = going->locate(bearing, distance)) {
           entry["room"] = spot->room;
           entry["near"] = spot->near;
@@ -237,19 +210,19 @@ json record_sightings(SkillContext& c, const std::string& seen_json, double bear
       }
       out.push_back(std::move(entry));
     };
-    for (const json& f : seen.value("faces", json::array())) {
+    for (const json &f : seen.value("faces", json::array())) {
       add(f, "person", f.value("name", ""), kFaceHeightM);
     }
-    for (const json& o : seen.value("objects", json::array())) {
+    for (const json &o : seen.value("objects", json::array())) {
       add(o, "object", o.value("label", ""), kThingHeightM);
     }
-  } catch (const std::exception& e) {
+  } catch (const std::exception &e) {
     log(LogLevel::kWarning, "sightings", std::string("not recorded: ") + e.what());
   }
   return out;
 }
 
-void add_finding_api(marvin_robot_api& a) {
+void add_finding_api(marvin_robot_api &a) {
   a.look_around = api_look_around;
   a.sightings_find = api_sightings_find;
   a.rooms_to_search = api_rooms_to_search;

@@ -1,6 +1,7 @@
 #include "skills/guard.h"
 
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "common/log.h"
 
@@ -16,13 +17,59 @@ Guard::Guard(Eyes& eyes, navigation::GoingPlaces* places, std::function<std::int
       options_(options) {}
 
 Guard::~Guard() {
+  GuardState s;
+  bool was_on = false;
   {
     std::lock_guard lock(mutex_);
     quit_ = true;
+    was_on = state_.on;
     state_.on = false;
+    if (was_on) state_.by = kOffByShutdown;
+    s = state_;
   }
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
+  // Nobody watches any more: `marvin guard status` must not say "on".
+  if (was_on) tell(s);
+}
+
+std::string guard_state_json(const GuardState& s) {
+  return nlohmann::json{
+      {"on", s.on}, {"since_unix_ms", s.since_ms}, {"alerts", s.alerts}, {"by", s.by}}
+      .dump();
+}
+
+GuardState guard_state_from_json(const std::string& text) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::invalid_argument("the guard state is not JSON (byte " + std::to_string(e.byte) +
+                                ")");
+  }
+  using Json = nlohmann::json;
+  auto field = [&](const char* name, bool (Json::*is_type)() const noexcept) -> const Json& {
+    if (!j.is_object() || !j.contains(name) || !(j[name].*is_type)()) {
+      throw std::invalid_argument(std::string("the guard state's '") + name +
+                                  "' is missing or of the wrong type");
+    }
+    return j[name];
+  };
+  GuardState s;
+  s.on = field("on", &Json::is_boolean).get<bool>();
+  s.since_ms = field("since_unix_ms", &Json::is_number_integer).get<std::int64_t>();
+  s.alerts = field("alerts", &Json::is_number_integer).get<int>();
+  s.by = field("by", &Json::is_string).get<std::string>();
+  return s;
+}
+
+void Guard::tell(const GuardState& s) {
+  if (!options_.changed) return;
+  try {
+    options_.changed(s);
+  } catch (const std::exception& e) {
+    log(LogLevel::kWarning, "guard", std::string("state not kept: ") + e.what());
+  }
 }
 
 GuardState Guard::on() {
@@ -35,7 +82,10 @@ GuardState Guard::on() {
   }
   state_ = GuardState{true, now_ms_(), 0, ""};
   if (options_.watch) thread_ = std::thread([this] { run(); });
-  return state_;
+  const GuardState s = state_;
+  lock.unlock();
+  tell(s);
+  return s;
 }
 
 GuardState Guard::off(const std::string& by) {
@@ -50,6 +100,7 @@ GuardState Guard::off(const std::string& by) {
   }
   wake_.notify_all();
   if (ending.joinable()) ending.join();
+  tell(s);
   return s;
 }
 
@@ -70,11 +121,32 @@ void Guard::run() {
   int streak = 0, looks = 0;
   bool alerted_here = false;  // one alert per stop
   while (!wait(options_.look)) {
+    if (options_.off_requested) {
+      GuardState s = state();
+      bool off = false;
+      try {
+        off = s.on && options_.off_requested(s);
+      } catch (const std::exception& e) {
+        log(LogLevel::kWarning, "guard", std::string("cannot read an off request: ") + e.what());
+      }
+      if (off) {
+        {
+          std::lock_guard lock(mutex_);
+          if (!state_.on) break;  // off() meanwhile: it tells
+          state_.on = false;
+          state_.by = kOffByCommandLine;
+          s = state_;
+        }
+        tell(s);
+        break;
+      }
+    }
     std::string seen;
     try {
       seen = eyes_.look_json();
     } catch (const std::exception& e) {
-      log(LogLevel::kWarning, "guard", e.what());  // a camera failure: try again later
+      log(LogLevel::kWarning, "guard",
+          e.what());  // a camera failure: try again later
       streak = 0;
       continue;
     }
@@ -93,13 +165,16 @@ void Guard::run() {
       } catch (const std::exception& e) {
         log(LogLevel::kWarning, "guard", std::string("no photo of the intruder: ") + e.what());
       }
+      GuardState now;
       {
         std::lock_guard lock(mutex_);
         if (!state_.on) break;
         ++state_.alerts;
+        now = state_;
       }
-      alert_(photo, unknown == 1 ? "someone I don't know" : std::to_string(unknown) +
-                                                                " people I don't know");
+      tell(now);
+      alert_(photo, unknown == 1 ? "someone I don't know"
+                                 : std::to_string(unknown) + " people I don't know");
     }
     if (++looks >= options_.looks_per_stop && options_.looks_per_stop > 0 && places_ &&
         options_.turn_deg != 0 && streak == 0) {

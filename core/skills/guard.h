@@ -1,13 +1,15 @@
-// Guard mode (issue 22, intruder detection): while on, a thread watches through the
-// robot's camera where it faces (a door, by default; with `turn_deg` it also turns in place a
-// stop at a time, but then "I'm home" may find it facing away); a face nobody enrolled, big
-// enough to identify (`min_face_px`), seen in `frames_needed` consecutive looks is an intruder: the alert callback gets a
-// photo taken then (it says so, logs the event, publishes it). A still picture of a person
-// (a TV, a poster) is the false alarm this cannot tell apart yet; requiring several frames
-// removes the one-frame misdetections only. Known faces never alert.
+// Guard mode (issue 22, intruder detection): while on, a thread watches through the robot's
+// camera where it faces (a door, by default; with `turn_deg` it also turns in place a stop at a
+// time, but then "I'm home" may find it facing away); a face nobody enrolled, big enough to
+// identify (`min_face_px`), seen in `frames_needed` consecutive looks is an intruder: the alert
+// callback gets a photo taken then (it says so, logs the event, publishes it). A still picture
+// of a person (a TV, a poster) is the false alarm this cannot tell apart yet; requiring several
+// frames removes the one-frame misdetections only. Known faces never alert.
 //
-// On/off: on() from anyone; off() is the host API's job to allow only for a known face in
-// view (host_api.cpp, `guard`), or from the CLI. Thread-safe.
+// On/off: on() from anyone; off() is the host API's job to allow only for a known face in view
+// (finding_api.cpp, `guard`). Another process (`marvin guard off`) turns it off through
+// `off_requested`, asked before every look; `changed` hears every change (the host keeps the
+// state in SQLite for `marvin guard status`). Thread-safe.
 #pragma once
 
 #include <condition_variable>
@@ -30,21 +32,44 @@ struct GuardState {
 };
 
 struct GuardOptions {
-  int frames_needed = 3;               // consecutive looks with an unknown face
-  std::chrono::milliseconds look{250}; // robot time between looks
-  int looks_per_stop = 4;              // then turn `turn_deg` (0: never turn)
+  int frames_needed = 3;                // consecutive looks with an unknown face
+  std::chrono::milliseconds look{250};  // robot time between looks
+  int looks_per_stop = 4;               // then turn `turn_deg` (0: never turn)
   double turn_deg = 0;
   // A face smaller than this (pixels high) is too far to tell known from unknown: a known
   // face across the room is often not recognised, and must not raise an alarm.
   double min_face_px = 40;
-  double time_scale = 1;               // robot seconds per wall second
-  bool watch = true;                   // false: state only, no thread (the MockRobot)
+  double time_scale = 1;  // robot seconds per wall second
+  bool watch = true;      // false: state only, no thread (the MockRobot)
+  // Optional. Told every change (on, off, an alert, the end of the program while on), on the
+  // caller's or the guard's thread, never under the guard's lock.
+  std::function<void(const GuardState&)> changed;
+  // Optional. Asked before every look while on; true turns the guard off, `by` becoming
+  // kOffByCommandLine (the watch ends; the next on() starts a new one).
+  std::function<bool(const GuardState&)> off_requested;
 };
+
+// GuardState::by when `off_requested` turned it off, and when the program ended while on.
+inline constexpr const char* kOffByCommandLine = "the command line";
+inline constexpr const char* kOffByShutdown = "Marvin shutting down";
+
+// Where the host keeps the guard's state for other processes: the storage table under this
+// reserved skill id ("host." is no skill's), keys kGuardStateKey (the state as JSON, written at
+// every change) and kGuardOffKey (`marvin guard off`: the since_unix_ms of the watch to end,
+// so a request never ends a later watch).
+inline constexpr const char* kGuardStorageId = "host.guard";
+inline constexpr const char* kGuardStateKey = "state";
+inline constexpr const char* kGuardOffKey = "off_request";
+
+// {"on", "since_unix_ms", "alerts", "by"} and back (a field missing or of the wrong type:
+// std::invalid_argument naming it).
+std::string guard_state_json(const GuardState& s);
+GuardState guard_state_from_json(const std::string& text);
 
 class Guard {
  public:
-  // `alert(photo_path, message)` runs on the guard's thread; `now_ms` is Unix ms.
-  // `places` may be null (then the guard never turns).
+  // `alert(photo_path, message)` runs on the guard's thread; `now_ms` is Unix ms. `places`
+  // may be null (then the guard never turns).
   Guard(Eyes& eyes, navigation::GoingPlaces* places, std::function<std::int64_t()> now_ms,
         std::function<void(const std::string& photo, const std::string& message)> alert,
         GuardOptions options = {});
@@ -58,6 +83,7 @@ class Guard {
 
  private:
   void run();
+  void tell(const GuardState& s);                 // options_.changed, its exceptions logged
   bool wait(std::chrono::milliseconds robot_ms);  // true when turned off meanwhile
 
   Eyes& eyes_;

@@ -8,6 +8,7 @@
 
 #include "common/log.h"
 #include "skills/api_json.h"
+#include "skills/host_call.h"
 #include "telephony/callee.h"
 
 namespace marvin::skills {
@@ -15,57 +16,12 @@ namespace {
 
 using nlohmann::json;
 
-// Runs one Robot API call for a context: records the error sentence on failure, and turns
-// any exception into a status so nothing escapes across the C ABI.
-template <class F>
-marvin_status guarded(marvin_host* host, F&& body) {
-  if (!host) return MARVIN_ERR_INVALID;
-  SkillContext& c = SkillContext::from(host);
-  c.last_error.clear();
-  c.kept_answer().count_call();
-  try {
-    return body(c);
-  } catch (const std::exception& e) {
-    c.last_error = e.what();
-    return MARVIN_ERR_INTERNAL;
-  } catch (...) {
-    c.last_error = "unknown error in the host";
-    return MARVIN_ERR_INTERNAL;
-  }
-}
-
-marvin_status fail(SkillContext& c, marvin_status status, std::string sentence) {
-  c.last_error = std::move(sentence);
-  return status;
-}
-
-marvin_status need(SkillContext& c, const char* permission) {
-  if (c.has_permission(permission)) return MARVIN_OK;
-  return fail(c, MARVIN_ERR_PERMISSION,
-              std::string("permission '") + permission + "' is not granted to skill '" +
-                  c.skill_id() + "'");
-}
-
-marvin_status need_text(SkillContext& c, const char* text, const char* what) {
-  if (text) return MARVIN_OK;
-  return fail(c, MARVIN_ERR_INVALID, std::string(what) + " is NULL");
-}
-
-marvin_status need_out(SkillContext& c, marvin_text_out* out) {
-  if (out) return MARVIN_OK;
-  return fail(c, MARVIN_ERR_INVALID, "the output buffer is NULL");
-}
-
-template <class Service>
-marvin_status need_service(SkillContext& c, Service* service, const char* what) {
-  if (service) return MARVIN_OK;
-  return fail(c, MARVIN_ERR_UNAVAILABLE, std::string("this robot has no ") + what);
-}
-
-#define MARVIN_TRY(expr)                                       \
-  do {                                                         \
-    if (marvin_status s_ = (expr); s_ != MARVIN_OK) return s_; \
-  } while (0)
+using host_call::fail;
+using host_call::guarded;
+using host_call::need;
+using host_call::need_out;
+using host_call::need_service;
+using host_call::need_text;
 
 json parse_json_arg(SkillContext& c, const char* text, const char* what, marvin_status* status) {
   try {

@@ -112,8 +112,16 @@ std::optional<std::string> HostLoop::ask(std::string_view question) {
     std::lock_guard lock(mutex_);
     if (interrupted_) return std::nullopt;
   }
+  const bool on_loop = std::this_thread::get_id() == loop_thread_;
+  if (!on_loop) {
+    // Pending before it is said: an answer typed as soon as the question shows is never
+    // taken for a "no" to the task (route()).
+    std::lock_guard lock(mutex_);
+    question_pending_ = true;
+    answer_.reset();
+  }
   say(question);
-  if (std::this_thread::get_id() == loop_thread_) {
+  if (on_loop) {
     // Nested on the loop thread: the next utterance is the answer.
     std::optional<std::string> line = pop();
     if (!line) return std::nullopt;
@@ -129,8 +137,6 @@ std::optional<std::string> HostLoop::ask(std::string_view question) {
   }
   // On a worker: the loop delivers the answer (or "stop" interrupts).
   std::unique_lock lock(mutex_);
-  question_pending_ = true;
-  answer_.reset();
   changed_.notify_all();  // a held utterance may be the answer
   if (input_.empty() && !holding_ && !closed_) notify_waiting(lock, Waiting::kAnswer);
   changed_.wait(lock, [&] {
@@ -163,6 +169,15 @@ void HostLoop::route(std::string line) {
     holding_ = false;
     lock.unlock();
     if (manager_) manager_->handle(line);
+    return;
+  }
+  // "No" while a task runs and asks nothing ("find Anna" ... "no"): stop it, as "stop" does,
+  // instead of holding it until the task ends to answer "I wasn't asking anything".
+  if (!question_pending_ && manager_->busy() && interpreter_ &&
+      interpreter_->builtin(line) == interpret::Builtin::kNo) {
+    holding_ = false;
+    lock.unlock();
+    manager_->stop();
     return;
   }
   bool told_held = false;

@@ -11,6 +11,7 @@
 #include "vision/face_gallery.h"
 #include "vision/model_files.h"
 #include "vision/object_memory.h"
+#include "vision/object_names.h"
 
 namespace marvin::vision {
 
@@ -166,10 +167,26 @@ void VisionEyes::teach_object(const std::string& name) {
 
 std::string VisionEyes::find_object_json(const std::string& name) {
   std::lock_guard lock(mutex_);
-  if (!store_) return "";
+  std::vector<std::string> taught;
+  if (store_) taught = ObjectMemory(*store_).names();
+  if (std::find(taught.begin(), taught.end(), name) == taught.end()) {
+    // Not taught, but a COCO class ("phone", "mug", "bike"): the detector looks for it. The
+    // answer names it as Marvin says it ("phone"), which is also how looks and sightings
+    // name it (finding skill, issue 22).
+    const std::optional<std::string> coco = coco_class_for(name);
+    ObjectDetector* detector = coco ? objects() : nullptr;
+    if (!detector) return "";
+    const Frame frame = grab();
+    nlohmann::json out = {{"name", spoken_name(*coco)}, {"found", false}, {"class", *coco}};
+    for (const DetectedObject& o : detector->detect(frame.image)) {
+      if (o.coco != *coco) continue;
+      out["found"] = true;
+      out["box"] = {o.box.x, o.box.y, o.box.width, o.box.height};
+      break;
+    }
+    return out.dump();
+  }
   ObjectMemory memory(*store_);
-  const auto names = memory.names();
-  if (std::find(names.begin(), names.end(), name) == names.end()) return "";
   const Frame frame = grab();
   nlohmann::json out = {{"name", name}, {"found", false}};
   if (const auto seen = memory.find(name, frame.image)) {

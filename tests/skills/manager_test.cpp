@@ -352,6 +352,27 @@ TEST_CASE("while a long skill runs, the next request waits; stop still goes firs
   CHECK(g_walks_cancelled == 1);
 }
 
+TEST_CASE("'no' while a long skill runs and asks nothing stops it, as stop does") {
+  g_walks_cancelled = 0;
+  Session s;
+  s.loop.post("go for a walk");
+  REQUIRE(s.body.wait_for("move"));
+  s.loop.post("no");
+  Lines said = s.finish();
+  CHECK(said == Lines{"OK, I stopped."});
+  CHECK(g_walks_cancelled == 1);
+  CHECK(s.body.motions() == Lines{"move", "stop"});
+}
+
+TEST_CASE("'no' answering a long skill's question is an answer, not a stop") {
+  Session s;
+  s.loop.post("run an errand");
+  REQUIRE(s.wait_said("Where to?"));
+  s.loop.post("no");
+  REQUIRE(s.wait_said("Going to the no."));
+  CHECK(s.finish() == Lines{"Where to?", "Going to the no."});
+}
+
 TEST_CASE("a long skill's question is answered by the next utterance") {
   Session s;
   s.loop.post("run an errand");

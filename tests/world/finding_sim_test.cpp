@@ -33,13 +33,11 @@ void enrol_anna(ChildProcess& marvin) {
 
 }  // namespace
 
-// Skipped: in the merged build (every look now also runs the COCO detector) this scenario
-// fails about half the runs, at a different step each time (Anna not seen in the living room,
-// the bedroom's stranger not reported, Anna not reached with the message); it passed on the
-// finding branch alone. The finding skill's logic stays covered by its MockRobot tests; issue
-// 22 stays open until this passes every time (run it with --no-skip).
-TEST_CASE("run --sim: find Anna from the kitchen, then from memory; who is in the bedroom" *
-          doctest::skip(true)) {
+// Anna's face is recognised from about 2 m; the living room's spot is some 2.8 m from her, so
+// a search that arrives there sees a face it cannot name about half the time: the finding
+// skill then goes closer and looks again (finding_skill.cpp, closer_look). Without that this
+// scenario failed about half the runs once looks also ran the COCO detector.
+TEST_CASE("run --sim: find Anna from the kitchen, then from memory; who is in the bedroom") {
   marvin::test_support::TempDir dir;
   ChildProcess marvin = start_home(dir.path());
   enrol_anna(marvin);
@@ -65,6 +63,11 @@ TEST_CASE("run --sim: find Anna from the kitchen, then from memory; who is in th
   marvin.wait_for_line("Marvin: I don't know a room called the garage.");
   marvin.send_line("tell bob dinner is ready");
   marvin.wait_for_line("Marvin: I don't know anyone called Bob.");
+  // "No" while it searches (and asks nothing) stops the search.
+  marvin.send_line("find anna");
+  marvin.wait_for_line("Marvin: I'll look for Anna.");
+  marvin.send_line("no");
+  marvin.wait_for_line("Marvin: OK, I stopped.");
   CHECK(exit_code(marvin.finish()) == 0);
   CHECK(marvin.output().find("[collision") == std::string::npos);
 }
@@ -117,4 +120,60 @@ TEST_CASE("run --sim: guide me to the kitchen arrives without a collision; the s
          answer.find("Marvin: No: ") == 0));
   CHECK(exit_code(marvin.finish()) == 0);
   CHECK(marvin.output().find("[collision") == std::string::npos);
+}
+
+// Object finding with what the COCO detector names in the default home (the bicycle in the
+// hall, the dog in the living room; examples/worlds/home.json): never seen, so it searches,
+// says the room and the nearest furniture, offers to lead the way; then from memory.
+TEST_CASE("run --sim: where is my bike, then from memory; unknown things are said so") {
+  marvin::test_support::TempDir dir;
+  ChildProcess marvin = start_home(dir.path());
+  marvin.wait_for_line("Marvin: Hello, I'm Marvin.");
+  // Bad input first: nothing taught or detectable by these names; nothing is searched.
+  marvin.send_line("where are my keys");
+  marvin.wait_for_line(
+      "Marvin: I don't know what your keys look like, and I have never seen them. Show me and "
+      "say \"these are my keys\".");
+  marvin.send_line("find the unicorn");
+  marvin.wait_for_line("Marvin: I don't know who or what unicorn is.");
+  marvin.send_line("where is my bike");
+  marvin.wait_for_line("Marvin: I'll look for your bicycle.");
+  marvin.wait_for_line_containing("Marvin: Your bicycle is in the hall");
+  marvin.wait_for_line("Marvin: Shall I show you the way?");
+  marvin.send_line("yes");
+  marvin.wait_for_line("Marvin: Here we are: the hall.");
+  marvin.send_line("where is my bike");
+  marvin.wait_for_line_containing("Marvin: I saw your bicycle in the hall");
+  marvin.wait_for_line("Marvin: Shall I look again?");
+  marvin.send_line("no");
+  marvin.wait_for_line("[light: awaiting (red)]");
+  CHECK(exit_code(marvin.finish()) == 0);
+  const std::string out = marvin.output();
+  CHECK(out.find("[collision") == std::string::npos);
+  // The bad requests moved nothing: no trip before the bicycle's search.
+  CHECK(out.find("[move") > out.find("Marvin: I'll look for your bicycle."));
+}
+
+// `marvin guard status|off` from another process reaches the running Marvin through its
+// data directory's SQLite store.
+TEST_CASE("run --sim: marvin guard off from the command line ends guard mode") {
+  marvin::test_support::TempDir dir;
+  ChildProcess marvin = start_home(dir.path());
+  const std::string data = (dir.path() / "data").string();
+  auto cli = [&](const char* verb) {
+    ChildProcess c({MARVIN_EXE, "guard", verb, "--data-dir", data});
+    CHECK(exit_code(c.finish()) == 0);
+    return c.output();
+  };
+  marvin.wait_for_line("Marvin: Hello, I'm Marvin.");
+  CHECK(cli("status") == "guard mode: off (never turned on)\n");
+  CHECK(cli("off") == "guard mode is already off; nothing changed\n");
+  marvin.send_line("guard the house");
+  marvin.wait_for_line_containing("Marvin: OK, I'm guarding the house.");
+  CHECK(cli("status").rfind("guard mode: on since ", 0) == 0);
+  CHECK(cli("off") == "guard mode: off (a running Marvin stops watching before its next look)\n");
+  marvin.wait_for_line("Marvin: Guard mode is off: it was turned off from the command line.");
+  CHECK(cli("status") == "guard mode: off (turned off by the command line), 0 alerts in the last "
+                         "watch\n");
+  CHECK(exit_code(marvin.finish()) == 0);
 }

@@ -136,7 +136,10 @@ typedef struct marvin_robot_api {
   /* --- later capabilities: present now, MARVIN_ERR_UNAVAILABLE until they land ---- */
   /* Since API 1.2 (permission "camera" or "vision"): whether an object taught with
    * vision_teach_object is in view now: {"name", "found": true|false, "box": [x, y, w, h]}.
-   * MARVIN_ERR_NOT_FOUND if nothing of that name was taught. */
+   * A name nothing was taught as but that names a COCO class ("phone", "mug") is looked
+   * for by the object detector, when the host has one: "name" is then what the host calls
+   * it ("phone"; looks and sightings use that name) and "class" the COCO class.
+   * MARVIN_ERR_NOT_FOUND if nothing of that name was taught and no detector knows it. */
   marvin_status (*vision_find_object)(marvin_host* host, const char* object_name,
                                       marvin_text_out* result_json);
   /* Since API 1.2 (permission "camera" or "vision"): the faces in view,

@@ -263,7 +263,9 @@ class Robot {
     std::string n = str(name);
     check(fn(&marvin_robot_api::vision_teach_object, "vision_teach_object")(host_, n.c_str()));
   }
-  // {"name", "found", "box"} for a taught object; nullopt if it was never taught.
+  // {"name", "found", "box"} for a taught object, or for a word naming a COCO class when the
+  // host has a detector ("name" is then the host's word for it, "class" the COCO class);
+  // nullopt if it was never taught and names no class the host knows.
   std::optional<nlohmann::json> vision_find_object(std::string_view name) {
     std::string n = str(name);
     auto call = fn(&marvin_robot_api::vision_find_object, "vision_find_object");
