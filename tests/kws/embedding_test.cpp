@@ -87,6 +87,30 @@ TEST_CASE("mel front end and embedding match onnxruntime on the stored clips") {
   }
 }
 
+TEST_CASE("embedding a window moved by 8 frames reuses the last one's rows and gives the same numbers") {
+  const auto models = shared_models();
+  const std::vector<float> mel = models->mel.compute(clip_samples("weather_en_f3"));
+  kws::EmbeddingCache cache;
+  int windows = 0;
+  double worst = 0.0;
+  for (std::size_t first = 0; (first + kws::kEmbeddingFrames) * kws::kMelBins <= mel.size(); first += 8) {
+    std::vector<float> window(mel.begin() + static_cast<std::ptrdiff_t>(first * kws::kMelBins),
+                              mel.begin() + static_cast<std::ptrdiff_t>((first + kws::kEmbeddingFrames) * kws::kMelBins));
+    for (float& v : window) v = v / 10.0f + 2.0f;
+    const kws::Embedding full = models->embedding.embed(window);
+    const kws::Embedding moved = models->embedding.embed(window, first == 0 ? 0 : 8, cache);
+    float mag = 0.0f, diff = 0.0f;
+    for (std::size_t d = 0; d < full.size(); ++d) {
+      mag = std::max(mag, std::abs(full[d]));
+      diff = std::max(diff, std::abs(full[d] - moved[d]));
+    }
+    worst = std::max(worst, static_cast<double>(diff / mag));
+    ++windows;
+  }
+  CHECK(windows > 8);
+  CHECK(worst < 1e-5);
+}
+
 TEST_CASE("the embedding stream gives one embedding per 80 ms, whatever the chunk sizes") {
   const std::vector<float> samples = clip_samples("marvin_en_us");
   kws::EmbeddingStream whole(shared_models());

@@ -199,7 +199,11 @@ struct Shape {
 
 struct SpeechEmbedding::Layers {
   std::vector<Layer> layers;
+  std::vector<Shape> shapes;  // each layer's output
   std::int64_t macs = 0;
+  // Every convolution is unpadded in time and every pooling's time kernel equals its stride,
+  // so a window moved by 8 frames shares all but its last rows with the one before.
+  bool incremental = true;
 };
 
 SpeechEmbedding::SpeechEmbedding(const std::filesystem::path& onnx_file)
@@ -294,7 +298,14 @@ SpeechEmbedding::SpeechEmbedding(const std::filesystem::path& onnx_file)
     } else {
       graph_error(g, k, "operator not supported by Marvin's embedding runner");
     }
+    if (layer.kind == Layer::Kind::conv && (layer.pad_top != 0 || layer.pad_bottom != 0)) {
+      layers_->incremental = false;
+    }
+    if (layer.kind == Layer::Kind::max_pool && layer.pool_h != layer.stride_h) {
+      layers_->incremental = false;
+    }
     layers_->layers.push_back(std::move(layer));
+    layers_->shapes.push_back(shape);
   }
   if (g.nodes.back().op_type != "Reshape") graph_error(g, g.nodes.size() - 1, "expected the output Reshape last");
 }
@@ -304,80 +315,132 @@ SpeechEmbedding::SpeechEmbedding(SpeechEmbedding&&) noexcept = default;
 
 std::int64_t SpeechEmbedding::macs() const { return layers_->macs; }
 
+namespace {
+
+// One layer's output rows [row_begin, shape.h) from its full input `x` (shape `in`), written
+// into `out` (shape `shape`), which may already hold the other rows.
+void run_rows(const Layer& layer, const std::vector<float>& x, const Shape& in, int row_begin,
+              std::vector<float>& out, const Shape& shape, std::vector<float>& col,
+              std::vector<float>& y) {
+  const int rows = shape.h - row_begin;
+  switch (layer.kind) {
+    case Layer::Kind::conv: {
+      const int ho = shape.h, wo = shape.w;
+      const int k_rows = layer.in * layer.kh * layer.kw;
+      const std::size_t n = static_cast<std::size_t>(rows * wo);
+      col.assign(static_cast<std::size_t>(k_rows) * n, 0.0f);
+      for (int c = 0; c < layer.in; ++c) {
+        for (int i = 0; i < layer.kh; ++i) {
+          for (int j = 0; j < layer.kw; ++j) {
+            float* dst = col.data() + static_cast<std::size_t>((c * layer.kh + i) * layer.kw + j) * n;
+            for (int oy = row_begin; oy < ho; ++oy) {
+              const int iy = oy + i - layer.pad_top;
+              if (iy < 0 || iy >= in.h) continue;
+              const float* src = x.data() + static_cast<std::size_t>((c * in.h + iy) * in.w);
+              float* d = dst + static_cast<std::size_t>((oy - row_begin) * wo);
+              for (int ox = 0; ox < wo; ++ox) {
+                const int ix = ox + j - layer.pad_left;
+                if (ix >= 0 && ix < in.w) d[ox] = src[ix];
+              }
+            }
+          }
+        }
+      }
+      y.resize(static_cast<std::size_t>(layer.out) * n);
+      Eigen::Map<RowMatrix> result(y.data(), layer.out, static_cast<Eigen::Index>(n));
+      result.noalias() = layer.weights * Eigen::Map<const RowMatrix>(col.data(), k_rows,
+                                                                      static_cast<Eigen::Index>(n));
+      result.colwise() += layer.bias;
+      for (int o = 0; o < layer.out; ++o) {
+        std::copy_n(y.data() + static_cast<std::size_t>(o) * n, n,
+                    out.data() + static_cast<std::size_t>((o * ho + row_begin) * wo));
+      }
+      break;
+    }
+    case Layer::Kind::leaky_relu:
+    case Layer::Kind::max_constant:
+      for (int c = 0; c < shape.c; ++c) {
+        float* p = out.data() + static_cast<std::size_t>((c * shape.h + row_begin) * shape.w);
+        float* e = p + static_cast<std::size_t>(rows * shape.w);
+        if (layer.kind == Layer::Kind::leaky_relu) {
+          for (; p != e; ++p) *p = *p >= 0.0f ? *p : *p * layer.value;
+        } else {
+          for (; p != e; ++p) *p = std::max(*p, layer.value);
+        }
+      }
+      break;
+    case Layer::Kind::max_pool:
+      for (int c = 0; c < shape.c; ++c) {
+        for (int oy = row_begin; oy < shape.h; ++oy) {
+          for (int ox = 0; ox < shape.w; ++ox) {
+            float best = -std::numeric_limits<float>::infinity();
+            for (int i = 0; i < layer.pool_h; ++i) {
+              for (int j = 0; j < layer.pool_w; ++j) {
+                best = std::max(best, x[static_cast<std::size_t>(
+                                          (c * in.h + oy * layer.stride_h + i) * in.w +
+                                          ox * layer.stride_w + j)]);
+              }
+            }
+            out[static_cast<std::size_t>((c * shape.h + oy) * shape.w + ox)] = best;
+          }
+        }
+      }
+      break;
+  }
+}
+
+}  // namespace
+
 Embedding SpeechEmbedding::embed(std::span<const float> mel) const {
+  EmbeddingCache cache;
+  return embed(mel, 0, cache);
+}
+
+Embedding SpeechEmbedding::embed(std::span<const float> mel, int shift, EmbeddingCache& cache) const {
   if (mel.size() != static_cast<std::size_t>(kEmbeddingFrames * kMelBins)) {
     throw std::invalid_argument("SpeechEmbedding::embed: " + std::to_string(mel.size()) +
                                 " values, expected 76 x 32 = 2432");
   }
-  Shape shape{1, kEmbeddingFrames, kMelBins};
-  std::vector<float> x(mel.begin(), mel.end());
-  std::vector<float> col;
-  std::vector<float> y;
-  for (const Layer& layer : layers_->layers) {
-    switch (layer.kind) {
-      case Layer::Kind::conv: {
-        const int ho = shape.h + layer.pad_top + layer.pad_bottom - layer.kh + 1;
-        const int wo = shape.w + layer.pad_left + layer.pad_right - layer.kw + 1;
-        const int rows = layer.in * layer.kh * layer.kw;
-        col.assign(static_cast<std::size_t>(rows) * static_cast<std::size_t>(ho * wo), 0.0f);
-        for (int c = 0; c < layer.in; ++c) {
-          for (int i = 0; i < layer.kh; ++i) {
-            for (int j = 0; j < layer.kw; ++j) {
-              float* dst = col.data() + static_cast<std::size_t>(((c * layer.kh + i) * layer.kw + j)) *
-                                            static_cast<std::size_t>(ho * wo);
-              for (int oy = 0; oy < ho; ++oy) {
-                const int iy = oy + i - layer.pad_top;
-                if (iy < 0 || iy >= shape.h) continue;
-                const float* src = x.data() + static_cast<std::size_t>((c * shape.h + iy) * shape.w);
-                for (int ox = 0; ox < wo; ++ox) {
-                  const int ix = ox + j - layer.pad_left;
-                  if (ix >= 0 && ix < shape.w) dst[oy * wo + ox] = src[ix];
-                }
-              }
-            }
-          }
-        }
-        y.resize(static_cast<std::size_t>(layer.out) * static_cast<std::size_t>(ho * wo));
-        Eigen::Map<RowMatrix> out(y.data(), layer.out, ho * wo);
-        out.noalias() = layer.weights * Eigen::Map<const RowMatrix>(col.data(), rows, ho * wo);
-        out.colwise() += layer.bias;
-        x.swap(y);
-        shape = {layer.out, ho, wo};
-        break;
-      }
-      case Layer::Kind::leaky_relu:
-        for (float& v : x) v = v >= 0.0f ? v : v * layer.value;
-        break;
-      case Layer::Kind::max_constant:
-        for (float& v : x) v = std::max(v, layer.value);
-        break;
-      case Layer::Kind::max_pool: {
-        const int ho = (shape.h - layer.pool_h) / layer.stride_h + 1;
-        const int wo = (shape.w - layer.pool_w) / layer.stride_w + 1;
-        y.assign(static_cast<std::size_t>(shape.c * ho * wo), 0.0f);
-        for (int c = 0; c < shape.c; ++c) {
-          for (int oy = 0; oy < ho; ++oy) {
-            for (int ox = 0; ox < wo; ++ox) {
-              float best = -std::numeric_limits<float>::infinity();
-              for (int i = 0; i < layer.pool_h; ++i) {
-                for (int j = 0; j < layer.pool_w; ++j) {
-                  best = std::max(best, x[static_cast<std::size_t>(
-                                            (c * shape.h + oy * layer.stride_h + i) * shape.w +
-                                            ox * layer.stride_w + j)]);
-                }
-              }
-              y[static_cast<std::size_t>((c * ho + oy) * wo + ox)] = best;
-            }
-          }
-        }
-        x.swap(y);
-        shape = {shape.c, ho, wo};
-        break;
-      }
-    }
+  const std::vector<Layer>& layers = layers_->layers;
+  // Incremental only when the window moved by a number of frames every pooling divides.
+  bool incremental = cache.valid && shift > 0 && shift % 8 == 0 && shift < kEmbeddingFrames &&
+                     layers_->incremental;
+  if (cache.outputs.size() != layers.size()) {
+    cache.outputs.assign(layers.size(), {});
+    incremental = false;
   }
+  Shape in{1, kEmbeddingFrames, kMelBins};
+  cache.input.assign(mel.begin(), mel.end());
+  const std::vector<float>* x = &cache.input;
+  int d = shift;  // rows of the current input that are new (at its bottom)
+  for (std::size_t k = 0; k < layers.size(); ++k) {
+    const Layer& layer = layers[k];
+    const Shape& shape = layers_->shapes[k];
+    const bool in_place = layer.kind == Layer::Kind::leaky_relu ||
+                          layer.kind == Layer::Kind::max_constant;
+    std::vector<float>& out = in_place ? *const_cast<std::vector<float>*>(x) : cache.outputs[k];
+    int row_begin = 0;
+    if (layer.kind == Layer::Kind::max_pool) d /= layer.stride_h;
+    if (incremental && d < shape.h) {
+      row_begin = shape.h - d;
+      if (!in_place) {
+        // Old rows move up by d; only the new bottom rows are computed.
+        for (int c = 0; c < shape.c; ++c) {
+          float* base = out.data() + static_cast<std::size_t>(c * shape.h * shape.w);
+          std::copy(base + static_cast<std::size_t>(d * shape.w),
+                    base + static_cast<std::size_t>(shape.h * shape.w), base);
+        }
+      }
+    } else if (!in_place) {
+      out.assign(static_cast<std::size_t>(shape.c * shape.h * shape.w), 0.0f);
+    }
+    run_rows(layer, *x, in, row_begin, out, shape, cache.col, cache.scratch);
+    x = &out;
+    in = shape;
+  }
+  cache.valid = true;
   Embedding e{};
-  std::copy_n(x.begin(), kEmbeddingSize, e.begin());
+  std::copy_n(x->begin(), kEmbeddingSize, e.begin());
   return e;
 }
 
@@ -401,6 +464,7 @@ void EmbeddingStream::reset() {
   mel_.assign(kEmbeddingFrames, {});
   for (auto& frame : mel_) frame.fill(1.0f);  // openWakeWord starts its buffer with ones
   seen_ = 0;
+  cache_.valid = false;
 }
 
 std::size_t EmbeddingStream::push(std::span<const float> samples, std::vector<Embedding>& out) {
@@ -415,6 +479,7 @@ std::size_t EmbeddingStream::push(std::span<const float> samples, std::vector<Em
     const std::size_t keep = kEmbeddingHop + kMelContext;
     if (audio_.size() > keep) audio_.erase(audio_.begin(), audio_.end() - static_cast<std::ptrdiff_t>(keep));
     const std::vector<float> mel = models_->mel.compute(audio_);
+    const int shift = static_cast<int>(mel.size() / kMelBins);
     for (std::size_t f = 0; f < mel.size() / kMelBins; ++f) {
       std::array<float, kMelBins> frame{};
       for (int b = 0; b < kMelBins; ++b) frame[static_cast<std::size_t>(b)] = mel[f * kMelBins + static_cast<std::size_t>(b)] / 10.0f + 2.0f;
@@ -424,7 +489,7 @@ std::size_t EmbeddingStream::push(std::span<const float> samples, std::vector<Em
     for (std::size_t f = 0; f < mel_.size(); ++f) {
       std::copy(mel_[f].begin(), mel_[f].end(), window.begin() + static_cast<std::ptrdiff_t>(f * kMelBins));
     }
-    out.push_back(models_->embedding.embed(window));
+    out.push_back(models_->embedding.embed(window, shift, cache_));
     ++added;
   }
   return added;
