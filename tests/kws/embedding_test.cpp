@@ -128,6 +128,15 @@ TEST_CASE("the embedding stream gives one embedding per 80 ms, whatever the chun
   float spread = 0.0f;
   for (std::size_t d = 0; d < kws::kEmbeddingSize; ++d) spread = std::max(spread, std::abs(a.front()[d] - a.back()[d]));
   CHECK(spread > 0.1f);
+  // Skipping the first embeddings leaves the later ones as they were.
+  kws::EmbeddingStream skipping(shared_models());
+  skipping.skip_embeddings(5);
+  std::vector<kws::Embedding> skipped;
+  skipping.push(samples, skipped);
+  REQUIRE(skipped.size() == a.size() - 5);
+  for (std::size_t k = 0; k < skipped.size(); ++k) {
+    for (std::size_t d = 0; d < kws::kEmbeddingSize; ++d) CHECK(skipped[k][d] == doctest::Approx(a[k + 5][d]).epsilon(1e-4));
+  }
   pieces.reset();
   std::vector<kws::Embedding> c;
   pieces.push(samples, c);

@@ -51,13 +51,24 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
   EmbeddingHead head;
   head.resize(options.hidden);
   const int h = options.hidden;
-  auto init = [&](std::vector<float>& w, int fan_in) {
-    std::normal_distribution<float> d(0.0f, std::sqrt(2.0f / static_cast<float>(fan_in)));
+  auto init = [&](std::vector<float>& w, int fan_in, float input_std) {
+    std::normal_distribution<float> d(0.0f, std::sqrt(2.0f / static_cast<float>(fan_in)) / input_std);
     for (float& x : w) x = d(rng);
   };
-  init(head.w1, kHeadInputs);
-  init(head.w2, h);
-  init(head.w3, h);
+  // He initialisation scaled by the inputs' spread (speech embeddings have a standard
+  // deviation around 15), so the first layer starts at unit scale without a normalisation
+  // layer in the file.
+  double sum = 0.0, sum2 = 0.0;
+  for (const float v : train.inputs) {
+    sum += v;
+    sum2 += static_cast<double>(v) * v;
+  }
+  const double count = static_cast<double>(train.inputs.size());
+  const auto input_std = static_cast<float>(
+      std::max(1e-3, std::sqrt(std::max(0.0, sum2 / count - (sum / count) * (sum / count)))));
+  init(head.w1, kHeadInputs, input_std);
+  init(head.w2, h, 1.0f);
+  init(head.w3, h, 1.0f);
   AdamBlock a_w1(head.w1.size()), a_b1(head.b1.size()), a_w2(head.w2.size()),
       a_b2(head.b2.size()), a_w3(head.w3.size());
   std::vector<float> b3v{0.0f};

@@ -464,6 +464,7 @@ void EmbeddingStream::reset() {
   mel_.assign(kEmbeddingFrames, {});
   for (auto& frame : mel_) frame.fill(1.0f);  // openWakeWord starts its buffer with ones
   seen_ = 0;
+  skip_ = 0;
   cache_.valid = false;
 }
 
@@ -485,6 +486,11 @@ std::size_t EmbeddingStream::push(std::span<const float> samples, std::vector<Em
       for (int b = 0; b < kMelBins; ++b) frame[static_cast<std::size_t>(b)] = mel[f * kMelBins + static_cast<std::size_t>(b)] / 10.0f + 2.0f;
       mel_.push_back(frame);
       mel_.pop_front();
+    }
+    if (skip_ > 0) {
+      --skip_;
+      cache_.valid = false;
+      continue;
     }
     for (std::size_t f = 0; f < mel_.size(); ++f) {
       std::copy(mel_[f].begin(), mel_[f].end(), window.begin() + static_cast<std::ptrdiff_t>(f * kMelBins));

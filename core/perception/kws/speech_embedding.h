@@ -112,6 +112,9 @@ class EmbeddingStream {
   // how many were appended.
   std::size_t push(std::span<const float> samples, std::vector<Embedding>& out);
   void reset();
+  // The next `hops` hops update the mel buffer but embed nothing (training examples need only
+  // their last embeddings; saves the work of the others).
+  void skip_embeddings(std::size_t hops) { skip_ = hops; }
   // Samples consumed since construction or reset (the end of the last embedding's audio
   // is at a multiple of kEmbeddingHop).
   std::int64_t samples_seen() const { return seen_; }
@@ -123,6 +126,7 @@ class EmbeddingStream {
   std::deque<std::array<float, kMelBins>> mel_;  // the last 76 scaled frames
   std::int64_t seen_ = 0;
   EmbeddingCache cache_;
+  std::size_t skip_ = 0;
 };
 
 }  // namespace marvin::perception::kws
