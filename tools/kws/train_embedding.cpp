@@ -50,13 +50,21 @@ float level_gain(const std::vector<float>& x, float peak_db) {
 // Places `word` to end `tail` samples before the end of an example, with optional context
 // before it, over noise.
 RawExample place(const std::vector<float>& word, const std::vector<float>* context, float label,
-                 const std::vector<std::vector<float>>& noise_pool, std::mt19937_64& rng) {
+                 const std::vector<std::vector<float>>& noise_pool, std::mt19937_64& rng,
+                 float tail_min_s = 0.0f, float tail_max_s = 0.24f,
+                 const std::vector<float>* after = nullptr) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   RawExample ex;
   ex.label = label;
   ex.audio.assign(kExampleSamples, 0.0f);
   const float peak_db = -18.0f + 16.0f * u(rng);
-  const auto tail = static_cast<std::size_t>(u(rng) * 3840.0f);
+  const auto tail = static_cast<std::size_t>((tail_min_s + (tail_max_s - tail_min_s) * u(rng)) * 16000.0f);
+  if (after != nullptr && !after->empty() && tail > 3200) {
+    // Speech after the word ("marvin, what time is it"), from 0.1..0.3 s after it.
+    const std::size_t begin = kExampleSamples - tail + static_cast<std::size_t>((0.1f + 0.2f * u(rng)) * 16000.0f);
+    const float ga = level_gain(*after, peak_db - 4.0f + 6.0f * u(rng));
+    for (std::size_t i = 0; begin + i < kExampleSamples && i < after->size(); ++i) ex.audio[begin + i] += ga * (*after)[i];
+  }
   const std::size_t len = std::min(word.size(), kExampleSamples - tail - 1);
   const std::size_t start = kExampleSamples - tail - len;
   const float g = level_gain(word, peak_db);
@@ -167,8 +175,9 @@ int train_embedding_main(int argc, char** argv) {
   std::vector<std::string> negative_dirs;
   std::uint64_t seed = 1;
   int positives = 1500, negatives = 1500, noise_examples = 200, real_copies = 1, threads = 2;
+  int late_keywords = 1000, conversation_stride = 1;
   double negative_minutes = 10.0;
-  float threshold = 0.5f, refractory = 1.0f;
+  float threshold = 0.5f, refractory = 2.0f;
   bool embedding = true;
   kws::HeadTrainOptions topt;
   topt.epochs = 30;
@@ -180,6 +189,10 @@ int train_embedding_main(int argc, char** argv) {
   app.add_option("--negatives", negatives, "synthesised other-speech examples")->capture_default_str();
   app.add_option("--negative-minutes", negative_minutes,
                  "minutes of keyword-free synthetic conversation, cut into windows")->capture_default_str();
+  app.add_option("--late-keywords", late_keywords,
+                 "negatives where the keyword ended 0.45..1.2 s before the window's end")->capture_default_str();
+  app.add_option("--conversation-stride", conversation_stride,
+                 "take every N-th window of the conversation")->capture_default_str();
   app.add_option("--negatives-dir", negative_dirs, "folders of real recordings of other words (negatives)");
   app.add_option("--real-copies", real_copies, "examples made from each real recording")->capture_default_str();
   app.add_option("--noise-examples", noise_examples, "background-noise-only examples")->capture_default_str();
@@ -223,7 +236,15 @@ int train_embedding_main(int argc, char** argv) {
       const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
       raw.push_back(place(w, &ctx, 1.0f, noise_pool, rng));
     }
-    std::printf("%d keyword examples synthesised (%.0f s)\n", positives, head_seconds_since(start));
+    // The keyword heard too long ago (it ended 0.45..1.2 s before), alone or followed by a
+    // command: not a detection now, or a keyword followed by speech fires twice.
+    for (int k = 0; k < late_keywords; ++k) {
+      const std::vector<float> w = say(keyword);
+      const std::vector<float> after = u(rng) < 0.7f ? say(other_text()) : std::vector<float>{};
+      raw.push_back(place(w, nullptr, 0.0f, noise_pool, rng, 0.45f, 1.2f, &after));
+    }
+    std::printf("%d keyword examples, %d late-keyword examples synthesised (%.0f s)\n", positives,
+                late_keywords, head_seconds_since(start));
     std::fflush(stdout);
     for (int k = 0; k < negatives; ++k) {
       std::vector<float> w = say(other_text());
@@ -255,7 +276,7 @@ int train_embedding_main(int argc, char** argv) {
                 head_seconds_since(start));
     std::fflush(stdout);
     kws::HeadSet all = embed_examples(raw, models, threads);
-    if (!conversation.empty()) all.append(stream_negatives(conversation, models, 2));
+    if (!conversation.empty()) all.append(stream_negatives(conversation, models, conversation_stride));
     std::size_t pos = 0;
     for (float l : all.labels) pos += l > 0.5f ? 1 : 0;
     std::printf("embedded: %zu examples, %zu positive, %zu negative (%zu real) (%.0f s)\n", all.size(), pos,
