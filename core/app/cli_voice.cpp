@@ -188,9 +188,11 @@ void install_voice_commands(CLI::App& root) {
   listen_cmd->add_option("--sensitivity", listen_args->sensitivity, "Wake word sensitivity 0..1")
       ->capture_default_str();
   listen_cmd->add_option("--wake-word", listen_args->wake_word,
-                         "Wake-word detector: neural (models/marvin-kws.bin "
-                         "or $MARVIN_KWS_MODEL), or pocketsphinx keyphrase spotting")
-      ->check(CLI::IsMember({"neural", "pocketsphinx"}))
+                         "Wake-word detector: embedding (speech embedding + "
+                         "models/marvin-embedding-head.bin; falls back to cnn without "
+                         "scripts/setup's models), cnn or neural (models/marvin-kws.bin or "
+                         "$MARVIN_KWS_MODEL), or pocketsphinx keyphrase spotting")
+      ->check(CLI::IsMember({"embedding", "cnn", "neural", "pocketsphinx"}))
       ->capture_default_str();
   listen_cmd->add_option("--voice", listen_args->voice, "espeak-ng voice")->capture_default_str();
   listen_cmd->add_option("--rate", listen_args->rate, "Words per minute")->capture_default_str();
@@ -211,9 +213,11 @@ void add_voice_run_options(CLI::App& run, VoiceRunOptions& o) {
                  "With --audio-in: write Marvin's speech to this WAV, aligned with the recording")
       ->needs(in);
   run.add_option("--wake-word", o.wake_word,
-                 "Wake-word detector: neural (models/marvin-kws.bin or "
+                 "Wake-word detector: embedding (speech embedding + "
+                 "models/marvin-embedding-head.bin; falls back to cnn without "
+                 "scripts/setup's models), cnn or neural (models/marvin-kws.bin or "
                  "$MARVIN_KWS_MODEL), or pocketsphinx keyphrase spotting")
-      ->check(CLI::IsMember({"neural", "pocketsphinx"}))
+      ->check(CLI::IsMember({"embedding", "cnn", "neural", "pocketsphinx"}))
       ->capture_default_str();
   run.add_option("--sensitivity", o.sensitivity, "Wake word sensitivity 0..1")
       ->capture_default_str();

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/log.h"
+#include "perception/kws/embedding_wake_word.h"
 #include "perception/kws/neural_wake_word.h"
 #include "perception/pocketsphinx_wake_word.h"
 
@@ -19,7 +20,20 @@ std::unique_ptr<perception::WakeWordDetector> make_wake_word(const std::string& 
     options.sensitivity = sensitivity;
     return std::make_unique<perception::PocketsphinxWakeWord>(options);
   }
-  if (kind == "neural") {
+  if (kind == "embedding") {
+    // The pretrained speech embedding + trained head (issue 21). Its ONNX files come from
+    // scripts/setup; without them the host falls back to the CNN spotter and says why.
+    perception::kws::EmbeddingWakeWordOptions options;
+    options.sensitivity = sensitivity;
+    try {
+      return std::make_unique<perception::kws::EmbeddingWakeWord>(options);
+    } catch (const std::exception& e) {
+      log(LogLevel::kWarning, "voice",
+          std::string("embedding wake word unavailable, using the cnn spotter: ") + e.what());
+      return make_wake_word("cnn", sensitivity);
+    }
+  }
+  if (kind == "neural" || kind == "cnn") {
     perception::kws::NeuralWakeWordOptions options;
     options.sensitivity = sensitivity;
     try {
@@ -30,7 +44,7 @@ std::unique_ptr<perception::WakeWordDetector> make_wake_word(const std::string& 
     }
   }
   throw std::runtime_error("unknown wake-word detector '" + kind +
-                           "': expected pocketsphinx or neural");
+                           "': expected embedding, cnn (or neural) or pocketsphinx");
 }
 
 // The body the manager and the skills see: everything goes to the host's body, the status

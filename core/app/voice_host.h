@@ -68,7 +68,9 @@ struct VoiceHostOptions {
   perception::EndpointerOptions endpointer;
 };
 
-// The wake-word detector named by `kind` ("pocketsphinx" or "neural"). Throws
+// The wake-word detector named by `kind` ("embedding", "cnn" = "neural", or "pocketsphinx";
+// "embedding" falls back to the cnn spotter, with a warning naming the missing file and
+// scripts/setup, when its models are not there). Throws
 // std::runtime_error naming the model when it cannot be loaded.
 std::unique_ptr<perception::WakeWordDetector> make_wake_word(const std::string& kind,
                                                              float sensitivity);

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <future>
 #include <map>
 #include <random>
@@ -26,7 +27,9 @@
 #include "perception/kws/dataset.h"
 #include "perception/kws/features.h"
 #include "perception/kws/keyword_spotter.h"
+#include "perception/kws/embedding_wake_word.h"
 #include "perception/kws/neural_wake_word.h"
+#include "train_embedding.h"
 #include "perception/pocketsphinx_wake_word.h"
 
 namespace kws = marvin::perception::kws;
@@ -253,6 +256,104 @@ void print_details(const Score& s, const Track& track, const Trace& trace, float
 
 }  // namespace
 
+// The embedding wake word's scores over a track, one every 80 ms: (end sample, score).
+using ScoreLog = std::vector<std::pair<std::int64_t, float>>;
+
+ScoreLog embedding_scores(const kws::EmbeddingHead& head, const std::vector<std::int16_t>& pcm,
+                          double* cpu_seconds) {
+  kws::EmbeddingWakeWord detector(kws::EmbeddingModels::load(), head, 0.5f);
+  ScoreLog log;
+  detector.set_score_log(&log);
+  std::vector<perception::WakeWordDetection> ignored;
+  // This thread's CPU time (pocketsphinx may be running on others).
+  auto cpu_now = [] {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
+  };
+  const double start = cpu_now();
+  for (std::size_t i = 0; i < pcm.size(); i += 1600) {
+    detector.process(std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), ignored);
+  }
+  *cpu_seconds = cpu_now() - start;
+  return log;
+}
+
+// Replays threshold and refractory period over the score log.
+std::vector<std::int64_t> embedding_ends(const ScoreLog& log, float threshold, float refractory_s) {
+  std::vector<std::int64_t> ends;
+  const auto refractory = static_cast<std::int64_t>(refractory_s * 16000.0f);
+  for (const auto& [end, score] : log) {
+    if (score >= threshold && (ends.empty() || end - ends.back() >= refractory)) ends.push_back(end);
+  }
+  return ends;
+}
+
+struct EvalRow {
+  double miss, fah;
+  float setting;
+};
+
+void print_embedding_rows(const ScoreLog& log, const Track& track, const std::vector<float>& thresholds,
+                          float refractory_s, double hours, std::vector<EvalRow>& rows) {
+  for (float th : thresholds) {
+    const Score s = score(embedding_ends(log, th, refractory_s), track);
+    std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", "embedding head", static_cast<double>(th),
+                100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+    rows.push_back({s.miss_rate(), s.false_accepts / hours, th});
+  }
+}
+
+void print_best(const char* name, const std::vector<EvalRow>& rows) {
+  const EvalRow* best = nullptr;
+  for (const EvalRow& r : rows) {
+    if (r.fah < 1.0 && (!best || r.miss < best->miss)) best = &r;
+  }
+  if (best) {
+    std::printf("  %-13s setting %.3f: miss %.2f%%, %.2f FA/h\n", name, static_cast<double>(best->setting),
+                100.0 * best->miss, best->fah);
+  } else {
+    std::printf("  %-13s none of the settings stays under 1 FA/h\n", name);
+  }
+}
+
+// Real recordings: every file of the negative folders and the positive folder, shuffled, one
+// after another with 0.3..2.5 s pauses, over continuous background noise (--noise files, else
+// generated) at -50..-35 dBFS; each utterance at -18..-4 dBFS peak.
+Track build_real_track(const std::vector<std::vector<float>>& positives,
+                       const std::vector<std::vector<float>>& negatives,
+                       const std::vector<std::vector<float>>& noise_pool, std::mt19937_64& rng) {
+  std::vector<std::pair<const std::vector<float>*, bool>> items;
+  for (const auto& p : positives) items.emplace_back(&p, true);
+  for (const auto& n : negatives) items.emplace_back(&n, false);
+  std::shuffle(items.begin(), items.end(), rng);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::size_t total = 16000;
+  std::vector<std::size_t> gaps;
+  for (const auto& it : items) {
+    gaps.push_back(static_cast<std::size_t>((0.3f + 2.2f * u(rng)) * 16000.0f));
+    total += gaps.back() + it.first->size();
+  }
+  Track t;
+  t.audio.assign(total + 16000, 0.0f);
+  for (std::size_t pos = 0; pos < t.audio.size();) {
+    const auto& n = noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+    const float level = db(-50.0f + 15.0f * u(rng)) / std::max(kws::rms(n), 1e-6f);
+    for (std::size_t i = 0; i < n.size() && pos < t.audio.size(); ++i) t.audio[pos++] += level * n[i];
+  }
+  std::size_t pos = 16000;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    pos += gaps[k];
+    const auto& x = *items[k].first;
+    mix_in(t.audio, pos, x, -18.0f + 14.0f * u(rng));
+    Segment seg{static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + x.size()), "", "real"};
+    (items[k].second ? t.keywords : t.sentences).push_back(seg);
+    pos += x.size();
+  }
+  for (float& v : t.audio) v = std::clamp(v, -1.0f, 1.0f);
+  return t;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"Evaluate Marvin's keyword spotter on held-out voices, against pocketsphinx"};
   std::string model_path = kws::default_model_path().string(), float_model_path, save_track;
@@ -283,7 +384,77 @@ int main(int argc, char** argv) {
   app.add_option("--details", details_threshold,
                  "at this threshold (first --smoothing): miss rate per voice, keyword posterior "
                  "peaks, and each false accept with what was said");
+  std::string head_path, positives_dir, noise_dir;
+  std::vector<std::string> negative_dirs;
+  std::vector<float> embedding_thresholds = {0.3f, 0.5f, 0.7f, 0.8f, 0.9f, 0.95f, 0.98f, 0.99f, 0.995f};
+  app.add_option("--embedding-head", head_path,
+                 "also evaluate the embedding wake word with this head (on the same track)");
+  app.add_option("--embedding-thresholds", embedding_thresholds)->capture_default_str();
+  app.add_option("--positives", positives_dir,
+                 "real recordings of the keyword (WAV/FLAC folder): evaluate on a track of real "
+                 "recordings instead of held-out synthetic voices");
+  app.add_option("--negatives", negative_dirs, "real recordings of other words (folders)");
+  app.add_option("--noise", noise_dir, "background noise recordings for the real track");
   CLI11_PARSE(app, argc, argv);
+
+  if (!positives_dir.empty()) {
+    try {
+      std::mt19937_64 rng(seed);
+      const auto positives = read_sound_folder(positives_dir, 0);
+      std::vector<std::vector<float>> negatives;
+      for (const auto& d : negative_dirs) {
+        auto n = read_sound_folder(d, 0);
+        negatives.insert(negatives.end(), std::make_move_iterator(n.begin()), std::make_move_iterator(n.end()));
+      }
+      const auto noise_pool = kws::make_noise_pool(noise_dir, kws::heldout_voices(), rng);
+      const Track track = build_real_track(positives, negatives, noise_pool, rng);
+      const std::vector<std::int16_t> pcm = marvin::audio::to_pcm16(track.audio);
+      const double hours = static_cast<double>(pcm.size()) / 16000.0 / 3600.0;
+      std::printf("real track: %.1f min, %zu keyword recordings (%s), %zu other recordings\n", hours * 60.0,
+                  track.keywords.size(), positives_dir.c_str(), track.sentences.size());
+      if (!save_track.empty()) marvin::audio::write_speech_file(save_track, pcm);
+      std::printf("\n%-28s %9s %8s %6s %8s\n", "detector", "setting", "miss", "FA", "FA/h");
+      std::vector<EvalRow> head_rows, cnn_rows;
+      if (!head_path.empty()) {
+        const kws::EmbeddingHead head = kws::load_head(head_path);
+        double cpu = 0.0;
+        const ScoreLog log = embedding_scores(head, pcm, &cpu);
+        print_embedding_rows(log, track, embedding_thresholds, head.refractory_seconds, hours, head_rows);
+        std::printf("(embedding head \"%s\": %.1f s of CPU for %.1f s of audio, %.2f%% of one core)\n",
+                    head.keyword.c_str(), cpu, hours * 3600.0, 100.0 * cpu / (hours * 3600.0));
+      }
+      const kws::KwsModel model = kws::load_model(model_path);
+      {
+        kws::NeuralWakeWord detector(model, 0.5f, kws::Precision::int8);
+        Trace trace;
+        detector.spotter().set_window_observer(
+            [](void* ctx, std::int64_t end_frame, float posterior, float) {
+              auto* t = static_cast<Trace*>(ctx);
+              t->posteriors.push_back(posterior);
+              t->end_frames.push_back(end_frame);
+            },
+            &trace);
+        std::vector<perception::WakeWordDetection> ignored;
+        for (std::size_t i = 0; i < pcm.size(); i += 1600) {
+          detector.process(std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), ignored);
+        }
+        for (float th : thresholds) {
+          const Score s = score(detection_ends(trace, model.detection.smoothing_windows, th, kws::refractory_windows(model)), track);
+          std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", ("cnn \"" + model.keyword + "\"").c_str(), static_cast<double>(th),
+                      100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+          cnn_rows.push_back({s.miss_rate(), s.false_accepts / hours, th});
+        }
+      }
+      std::printf("\noperating point (lowest miss rate with under 1 false accept per hour):\n");
+      if (!head_path.empty()) print_best("embedding", head_rows);
+      print_best("cnn", cnn_rows);
+      std::printf("(%.2f h of audio: one false accept is %.2f FA/h)\n", hours, 1.0 / hours);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "marvin-kws-eval: %s\n", e.what());
+      return 1;
+    }
+    return 0;
+  }
 
   try {
     const auto start = Clock::now();
@@ -387,6 +558,15 @@ int main(int argc, char** argv) {
         neural_rows.push_back({s.miss_rate(), s.false_accepts / hours, th, sm});
       }
     }
+    std::vector<EvalRow> head_rows;
+    if (!head_path.empty()) {
+      const kws::EmbeddingHead head = kws::load_head(head_path);
+      double cpu = 0.0;
+      const ScoreLog log = embedding_scores(head, pcm, &cpu);
+      print_embedding_rows(log, track, embedding_thresholds, head.refractory_seconds, hours, head_rows);
+      std::printf("(embedding head: %.1f s of CPU for %.1f s of audio, %.2f%% of one core)\n", cpu,
+                  hours * 3600.0, 100.0 * cpu / (hours * 3600.0));
+    }
     if (details_threshold >= 0.0f) {
       const Score s = score(detection_ends(trace, smoothings.front(), details_threshold, refractory), track);
       print_details(s, track, trace, details_threshold, smoothings.front());
@@ -418,6 +598,7 @@ int main(int argc, char** argv) {
         std::printf("  pocketsphinx  none of the sensitivities stays under 1 FA/h\n");
       }
     }
+    if (!head_path.empty()) print_best("embedding", head_rows);
     std::printf("(%.1f h of audio: one false accept is %.2f FA/h; total %.0f s)\n", hours, 1.0 / hours, elapsed());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "marvin-kws-eval: %s\n", e.what());

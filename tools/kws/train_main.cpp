@@ -9,6 +9,8 @@
 // activation calibration -> int8 per-channel quantisation -> float and int8 accuracy on the
 // eval split -> model file(s).
 #include <CLI/CLI.hpp>
+
+#include "train_embedding.h"
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -46,6 +48,10 @@ void print_accuracy(const char* name, const kws::Accuracy& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // --embedding: the embedding wake word's head instead (train_embedding.cpp).
+  for (int k = 1; k < argc; ++k) {
+    if (std::string(argv[k]) == "--embedding") return train_embedding_main(argc, argv);
+  }
   CLI::App app{"Train Marvin's neural keyword spotter (cnn-trad-fpool3, int8)"};
   std::string data_dir, noise_dir, out = "models/marvin-kws.bin", float_out, init;
   kws::DatasetOptions dopt;

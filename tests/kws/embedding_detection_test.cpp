@@ -1,0 +1,95 @@
+// The embedding wake word with the shipped head (models/marvin-embedding-head.bin) on speech
+// made by espeak-ng during the test: a spoken "marvin" fires once, an ordinary sentence never.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "devices/audio/sound_buffer.h"
+#include "perception/kws/dataset.h"
+#include "perception/kws/embedding_wake_word.h"
+
+namespace kws = marvin::perception::kws;
+namespace perception = marvin::perception;
+
+namespace {
+
+const kws::EmbeddingHead& shipped_head() {
+  static const kws::EmbeddingHead h =
+      kws::load_head(std::filesystem::path(MARVIN_TEST_SOURCE_DIR) / "models/marvin-embedding-head.bin");
+  return h;
+}
+
+std::shared_ptr<const kws::EmbeddingModels> front_end() {
+  static const auto m = kws::EmbeddingModels::load();
+  return m;
+}
+
+// Speech with a second of quiet before and 1.5 s after, over faint noise.
+std::vector<std::int16_t> spoken_with_pauses(const std::string& text, const std::string& voice) {
+  std::vector<float> a(16000, 0.0f);
+  std::vector<float> s = kws::synthesize(text, voice, 160, 50);
+  float peak = 0.0f;
+  for (float v : s) peak = std::max(peak, std::fabs(v));
+  for (float& v : s) v *= 0.5f / peak;
+  a.insert(a.end(), s.begin(), s.end());
+  a.resize(a.size() + 24000, 0.0f);
+  std::uint32_t state = 12345;
+  for (float& v : a) {
+    state = state * 1664525u + 1013904223u;
+    v += 1e-3f * (static_cast<float>(state >> 8) / 16777216.0f - 0.5f);
+  }
+  return marvin::audio::to_pcm16(a);
+}
+
+std::vector<perception::WakeWordDetection> detections(const std::vector<std::int16_t>& pcm) {
+  kws::EmbeddingWakeWord detector(front_end(), shipped_head(), 0.5f);
+  std::vector<perception::WakeWordDetection> det;
+  for (std::size_t i = 0; i < pcm.size(); i += 1600) {
+    detector.process(std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), det);
+  }
+  return det;
+}
+
+}  // namespace
+
+TEST_CASE("the shipped embedding head is small and for \"marvin\"") {
+  CHECK(std::filesystem::file_size(std::filesystem::path(MARVIN_TEST_SOURCE_DIR) /
+                                   "models/marvin-embedding-head.bin") < 300 * 1024);
+  CHECK(shipped_head().keyword == "marvin");
+}
+
+TEST_CASE("a synthesised \"marvin\" is detected once by the embedding wake word") {
+  for (const char* voice : {"en-us", "en-gb-x-gbclan+m7"}) {  // a training and a held-out voice
+    INFO("voice " << std::string(voice));
+    const std::vector<std::int16_t> pcm = spoken_with_pauses("Marvin", voice);
+    const auto det = detections(pcm);
+    CHECK(det.size() == 1);
+    if (!det.empty()) {
+      CHECK(det[0].end_sample > 16000);
+      CHECK(det[0].score >= shipped_head().threshold);
+    }
+  }
+}
+
+TEST_CASE("a sentence without the keyword is not detected by the embedding wake word") {
+  CHECK(detections(spoken_with_pauses("please turn on the lights in the kitchen", "en-us")).empty());
+  CHECK(detections(spoken_with_pauses("what time is it", "en-gb-x-gbcwmd+f5")).empty());
+}
+
+TEST_CASE("embedding wake word: sensitivity maps to the threshold, reset repeats the answer") {
+  kws::EmbeddingWakeWord d(front_end(), shipped_head(), 0.5f);
+  CHECK(d.threshold_for(0.5f) == doctest::Approx(shipped_head().threshold));
+  CHECK(d.threshold_for(0.0f) == doctest::Approx(0.99f));
+  CHECK(d.threshold_for(1.0f) == doctest::Approx(0.05f));
+  d.set_sensitivity(-3.0f);
+  CHECK(d.sensitivity() == 0.0f);
+  const std::vector<std::int16_t> pcm = spoken_with_pauses("Marvin", "en-us");
+  d.set_sensitivity(0.5f);
+  std::vector<perception::WakeWordDetection> a, b;
+  d.process(pcm, a);
+  d.reset();
+  d.process(pcm, b);
+  REQUIRE(a.size() == b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) CHECK(a[k].end_sample == b[k].end_sample);
+}

@@ -1,0 +1,144 @@
+// The embedding wake word's head: file round trip and refusal of bad files, training on a toy
+// problem, determinism for a seed.
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "perception/kws/embedding_head.h"
+#include "perception/kws/head_trainer.h"
+#include "perception/kws/model_file.h"
+
+namespace kws = marvin::perception::kws;
+
+namespace {
+
+kws::EmbeddingHead numbered_head() {
+  kws::EmbeddingHead h;
+  h.keyword = "smart mirror";
+  h.threshold = 0.8f;
+  h.refractory_seconds = 1.5f;
+  h.resize(8);
+  float v = 0.0f;
+  for (auto* w : {&h.w1, &h.b1, &h.w2, &h.b2, &h.w3}) {
+    for (float& x : *w) x = (v += 0.001f);
+  }
+  h.b3 = -0.5f;
+  return h;
+}
+
+std::string head_error(const std::vector<std::uint8_t>& bytes) {
+  try {
+    kws::parse_head(bytes, "head.bin");
+  } catch (const kws::ModelFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Toy problem: noise everywhere, and embedding 12 (of 16) shifted up for positives, down for
+// negatives, as a keyword that shows in the embeddings just before its end.
+kws::HeadSet toy_set(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<float> noise(0.0f, 1.0f);
+  kws::HeadSet set;
+  std::vector<float> x(kws::kHeadInputs);
+  for (std::size_t k = 0; k < n; ++k) {
+    const bool positive = (rng() & 1u) != 0;
+    for (float& v : x) v = noise(rng);
+    for (int d = 0; d < kws::kEmbeddingSize; ++d) x[12 * kws::kEmbeddingSize + d] += positive ? 0.25f : -0.25f;
+    set.add(x, positive ? 1.0f : 0.0f);
+  }
+  return set;
+}
+
+}  // namespace
+
+TEST_CASE("an embedding head file round-trips") {
+  const kws::EmbeddingHead h = numbered_head();
+  const auto path = std::filesystem::temp_directory_path() / "marvin-head-roundtrip.bin";
+  kws::save_head(path, h);
+  const kws::EmbeddingHead back = kws::load_head(path);
+  CHECK(back.keyword == "smart mirror");
+  CHECK(back.hidden == 8);
+  CHECK(back.threshold == 0.8f);
+  CHECK(back.refractory_seconds == 1.5f);
+  CHECK(back.w1 == h.w1);
+  CHECK(back.w2 == h.w2);
+  CHECK(back.w3 == h.w3);
+  CHECK(back.b1 == h.b1);
+  CHECK(back.b2 == h.b2);
+  CHECK(back.b3 == h.b3);
+  std::vector<float> input(kws::kHeadInputs, 0.1f);
+  CHECK(back.score(input) == h.score(input));
+  std::filesystem::remove(path);
+}
+
+TEST_CASE("bad embedding head files are refused with the field and byte") {
+  const std::vector<std::uint8_t> good = kws::serialize_head(numbered_head());
+  CHECK(head_error(good).empty());
+
+  auto truncated = good;
+  truncated.resize(good.size() - 100);
+  const std::string t = head_error(truncated);
+  CHECK(t.find("head.bin: weights") != std::string::npos);
+  CHECK(t.find("truncated") != std::string::npos);
+
+  const std::string tiny = head_error(std::vector<std::uint8_t>(good.begin(), good.begin() + 20));
+  CHECK(tiny.find("truncated") != std::string::npos);
+
+  auto version = good;
+  version[8] = 7;
+  CHECK(head_error(version).find("version at byte 12: format version 7, this build reads 1") != std::string::npos);
+
+  auto magic = good;
+  magic[0] = 'X';
+  CHECK(head_error(magic).find("magic at byte 0") != std::string::npos);
+
+  auto cnn = good;
+  std::memcpy(cnn.data(), "MRVNKWS", 8);  // the CNN spotter's file is not a head
+  CHECK(head_error(cnn).find("MRVNKWE") != std::string::npos);
+
+  auto flipped = good;
+  flipped[good.size() / 2] ^= 0x40;
+  CHECK(head_error(flipped).find("checksum") != std::string::npos);
+
+  auto frames = good;
+  frames[12] = 10;
+  CHECK(head_error(frames).find("embeddings per input at byte 16: 10, expected 16") != std::string::npos);
+
+  CHECK_THROWS_WITH_AS(kws::load_head("/nonexistent/head.bin"),
+                       doctest::Contains("/nonexistent/head.bin"), kws::ModelFileError);
+}
+
+TEST_CASE("head training learns a toy problem and is deterministic for a seed") {
+  const kws::HeadSet train = toy_set(1500, 1);
+  const kws::HeadSet test = toy_set(500, 2);
+  kws::HeadTrainOptions options;
+  options.hidden = 16;
+  options.epochs = 8;
+  options.batch = 64;
+  options.learning_rate = 3e-3f;
+  options.seed = 5;
+  const kws::EmbeddingHead untrained = [&] {
+    kws::HeadTrainOptions none = options;
+    none.epochs = 0;
+    return kws::train_head(train, none);
+  }();
+  const kws::HeadAccuracy before = kws::head_accuracy(untrained, test, 0.5f);
+  const kws::EmbeddingHead head = kws::train_head(train, options);
+  const kws::HeadAccuracy after = kws::head_accuracy(head, test, 0.5f);
+  MESSAGE("toy accuracy before ", before.positives, "/", before.negatives, " after ",
+          after.positives, "/", after.negatives);
+  CHECK(after.positives > 0.9);
+  CHECK(after.negatives > 0.9);
+  CHECK(after.positives + after.negatives > before.positives + before.negatives + 0.3);
+  const kws::EmbeddingHead again = kws::train_head(train, options);
+  CHECK(again.w1 == head.w1);
+  CHECK(again.b3 == head.b3);
+  options.seed = 6;
+  CHECK(kws::train_head(train, options).w1 != head.w1);
+}

@@ -1,0 +1,323 @@
+// The recipe (tools/kws/README.md): every example is 2.08 s of audio run through a fresh
+// EmbeddingStream (as the detector hears it after a pause), of which the head sees the last 16
+// embeddings (1.28 s):
+// - positives: the keyword (espeak-ng, training voices, rate 110..230 wpm, pitch 20..80, half
+//   the time with its speed changed by 0.9..1.1) ending 0..240 ms before the example's end;
+//   half the time the end of another utterance 0.1..0.5 s before it;
+// - negatives: the same with other words / sentence pieces / words that sound like the keyword
+//   in place of the keyword; real recordings of other words (--negatives-dir, each file
+//   `--real-copies` times); the keyword-free conversation of negative_speech(), cut into every
+//   second window of 16 embeddings; pure background noise;
+// - everything over background noise (the noise pool) at an SNR in [-5, 10] dB (80 %), else a
+//   quiet floor, at a peak level of -18..-2 dBFS.
+// Synthesis runs on one thread (espeak-ng keeps global state); embedding on --threads.
+#include "train_embedding.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <thread>
+
+#include <unistd.h>
+
+#include "devices/audio/sound_file.h"
+#include "perception/kws/augment.h"
+#include "perception/kws/dataset.h"
+#include "perception/kws/head_trainer.h"
+#include "perception/kws/speech_embedding.h"
+
+namespace kws = marvin::perception::kws;
+
+namespace {
+
+constexpr std::size_t kExampleHops = 26;
+constexpr std::size_t kExampleSamples = kExampleHops * kws::kEmbeddingHop;
+
+struct RawExample {
+  std::vector<float> audio;  // kExampleSamples, float [-1, 1]
+  float label = 0.0f;
+};
+
+float level_gain(const std::vector<float>& x, float peak_db) {
+  float peak = 0.0f;
+  for (float v : x) peak = std::max(peak, std::fabs(v));
+  return std::pow(10.0f, peak_db / 20.0f) / std::max(peak, 1e-6f);
+}
+
+// Places `word` to end `tail` samples before the end of an example, with optional context
+// before it, over noise.
+RawExample place(const std::vector<float>& word, const std::vector<float>* context, float label,
+                 const std::vector<std::vector<float>>& noise_pool, std::mt19937_64& rng,
+                 float tail_min_s = 0.0f, float tail_max_s = 0.24f,
+                 const std::vector<float>* after = nullptr) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  RawExample ex;
+  ex.label = label;
+  ex.audio.assign(kExampleSamples, 0.0f);
+  const float peak_db = -18.0f + 16.0f * u(rng);
+  const auto tail = static_cast<std::size_t>((tail_min_s + (tail_max_s - tail_min_s) * u(rng)) * 16000.0f);
+  if (after != nullptr && !after->empty() && tail > 3200) {
+    // Speech after the word ("marvin, what time is it"), from 0.1..0.3 s after it.
+    const std::size_t begin = kExampleSamples - tail + static_cast<std::size_t>((0.1f + 0.2f * u(rng)) * 16000.0f);
+    const float ga = level_gain(*after, peak_db - 4.0f + 6.0f * u(rng));
+    for (std::size_t i = 0; begin + i < kExampleSamples && i < after->size(); ++i) ex.audio[begin + i] += ga * (*after)[i];
+  }
+  const std::size_t len = std::min(word.size(), kExampleSamples - tail - 1);
+  const std::size_t start = kExampleSamples - tail - len;
+  const float g = level_gain(word, peak_db);
+  for (std::size_t i = 0; i < len; ++i) ex.audio[start + i] += g * word[word.size() - len + i];
+  if (context != nullptr && !context->empty()) {
+    const auto gap = static_cast<std::size_t>((0.1f + 0.4f * u(rng)) * 16000.0f);
+    if (start > gap) {
+      const std::size_t end = start - gap;
+      const std::size_t n = std::min(end, context->size());
+      const float gc = level_gain(*context, peak_db - 6.0f + 8.0f * u(rng));
+      for (std::size_t i = 0; i < n; ++i) ex.audio[end - n + i] += gc * (*context)[context->size() - n + i];
+    }
+  }
+  const auto& noise = noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+  if (u(rng) < 0.8f) {
+    kws::add_noise_at_snr(ex.audio, noise, -5.0f + 15.0f * u(rng), rng);
+  } else {
+    const float floor = std::pow(10.0f, (-60.0f + 15.0f * u(rng)) / 20.0f) / std::max(kws::rms(noise), 1e-6f);
+    const std::size_t off = noise.size() > kExampleSamples
+                                ? std::uniform_int_distribution<std::size_t>(0, noise.size() - kExampleSamples)(rng)
+                                : 0;
+    for (std::size_t i = 0; i < kExampleSamples && off + i < noise.size(); ++i) ex.audio[i] += floor * noise[off + i];
+  }
+  for (float& v : ex.audio) v = std::clamp(v, -1.0f, 1.0f);
+  return ex;
+}
+
+// The last 16 embeddings of each example, on `threads` threads (each example its own stream).
+kws::HeadSet embed_examples(const std::vector<RawExample>& examples,
+                            const std::shared_ptr<const kws::EmbeddingModels>& models, int threads) {
+  std::vector<std::vector<float>> inputs(examples.size());
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t) {
+    pool.emplace_back([&, t] {
+      kws::EmbeddingStream stream(models);
+      std::vector<kws::Embedding> out;
+      std::vector<float> scaled(kExampleSamples);
+      for (std::size_t k = static_cast<std::size_t>(t); k < examples.size(); k += static_cast<std::size_t>(threads)) {
+        stream.reset();
+        stream.skip_embeddings(kExampleHops - kws::kHeadEmbeddings);
+        out.clear();
+        for (std::size_t i = 0; i < kExampleSamples; ++i) scaled[i] = examples[k].audio[i] * 32768.0f;
+        stream.push(scaled, out);
+        auto& in = inputs[k];
+        in.reserve(kws::kHeadInputs);
+        for (std::size_t e = out.size() - kws::kHeadEmbeddings; e < out.size(); ++e) {
+          in.insert(in.end(), out[e].begin(), out[e].end());
+        }
+      }
+    });
+  }
+  for (auto& th : pool) th.join();
+  kws::HeadSet set;
+  for (std::size_t k = 0; k < examples.size(); ++k) set.add(inputs[k], examples[k].label);
+  return set;
+}
+
+// Windows of 16 consecutive embeddings of a long keyword-free stream, every `stride`-th.
+kws::HeadSet stream_negatives(const std::vector<float>& audio,
+                              const std::shared_ptr<const kws::EmbeddingModels>& models, int stride) {
+  kws::EmbeddingStream stream(models);
+  std::vector<kws::Embedding> out;
+  std::vector<float> scaled(audio.size());
+  for (std::size_t i = 0; i < audio.size(); ++i) scaled[i] = audio[i] * 32768.0f;
+  stream.push(scaled, out);
+  kws::HeadSet set;
+  std::vector<float> in(kws::kHeadInputs);
+  // Skip the first 10 embeddings (the mel buffer still holds its initial ones).
+  for (std::size_t end = 10 + kws::kHeadEmbeddings; end <= out.size(); end += static_cast<std::size_t>(stride)) {
+    for (std::size_t e = 0; e < static_cast<std::size_t>(kws::kHeadEmbeddings); ++e) {
+      std::copy(out[end - kws::kHeadEmbeddings + e].begin(), out[end - kws::kHeadEmbeddings + e].end(),
+                in.begin() + static_cast<std::ptrdiff_t>(e * kws::kEmbeddingSize));
+    }
+    set.add(in, 0.0f);
+  }
+  return set;
+}
+
+double head_seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& folder, std::size_t limit) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(folder)) {
+    const std::string ext = e.path().extension().string();
+    if (e.is_regular_file() && (ext == ".wav" || ext == ".flac" || ext == ".WAV" || ext == ".FLAC")) {
+      files.push_back(e.path());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  if (limit > 0 && files.size() > limit) files.resize(limit);
+  std::vector<std::vector<float>> out;
+  for (const auto& f : files) {
+    const std::vector<std::int16_t> pcm = marvin::audio::read_speech_file(f);
+    std::vector<float> x(pcm.size());
+    for (std::size_t i = 0; i < pcm.size(); ++i) x[i] = static_cast<float>(pcm[i]) / 32768.0f;
+    out.push_back(kws::trim_silence(x));
+  }
+  return out;
+}
+
+int train_embedding_main(int argc, char** argv) {
+  CLI::App app{"Train the head of Marvin's embedding wake word (speech embedding + small MLP)"};
+  std::string keyword = "marvin", out = "models/marvin-embedding-head.bin", noise_dir;
+  std::vector<std::string> negative_dirs;
+  std::uint64_t seed = 1;
+  int positives = 1500, negatives = 1500, noise_examples = 200, real_copies = 1, threads = 2;
+  int late_keywords = 1000, conversation_stride = 1;
+  double negative_minutes = 10.0;
+  float threshold = 0.5f, refractory = 2.0f;
+  bool embedding = true;
+  kws::HeadTrainOptions topt;
+  topt.epochs = 30;
+  app.add_flag("--embedding", embedding, "train the embedding wake word's head (this recipe)");
+  app.add_option("--keyword", keyword, "what is said (lower case)")->capture_default_str();
+  app.add_option("--out", out, "head file to write")->capture_default_str();
+  app.add_option("--seed", seed)->capture_default_str();
+  app.add_option("--positives", positives, "synthesised keyword examples")->capture_default_str();
+  app.add_option("--negatives", negatives, "synthesised other-speech examples")->capture_default_str();
+  app.add_option("--negative-minutes", negative_minutes,
+                 "minutes of keyword-free synthetic conversation, cut into windows")->capture_default_str();
+  app.add_option("--late-keywords", late_keywords,
+                 "negatives where the keyword ended 0.45..1.2 s before the window's end")->capture_default_str();
+  app.add_option("--conversation-stride", conversation_stride,
+                 "take every N-th window of the conversation")->capture_default_str();
+  app.add_option("--negatives-dir", negative_dirs, "folders of real recordings of other words (negatives)");
+  app.add_option("--real-copies", real_copies, "examples made from each real recording")->capture_default_str();
+  app.add_option("--noise-examples", noise_examples, "background-noise-only examples")->capture_default_str();
+  app.add_option("--noise", noise_dir, "folder of background-noise recordings (else generated)");
+  app.add_option("--hidden", topt.hidden)->capture_default_str();
+  app.add_option("--epochs", topt.epochs)->capture_default_str();
+  app.add_option("--batch", topt.batch)->capture_default_str();
+  app.add_option("--lr", topt.learning_rate)->capture_default_str();
+  app.add_option("--positive-weight", topt.positive_weight)->capture_default_str();
+  app.add_option("--threshold", threshold, "detection threshold stored in the head")->capture_default_str();
+  app.add_option("--refractory", refractory, "seconds without a second detection")->capture_default_str();
+  app.add_option("--threads", threads, "threads for the embeddings")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    const auto models = kws::EmbeddingModels::load();
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const std::vector<std::string> voices = kws::training_voices();
+    std::uniform_int_distribution<std::size_t> pick_voice(0, voices.size() - 1);
+    std::uniform_int_distribution<int> rate(110, 230), pitch(20, 80);
+    const auto noise_pool = kws::make_noise_pool(noise_dir, voices, rng);
+    auto say = [&](const std::string& text) {
+      std::vector<float> w = kws::synthesize(text, voices[pick_voice(rng)], rate(rng), pitch(rng));
+      if (u(rng) < 0.5f) w = kws::change_speed_and_pitch(w, 0.9 + 0.2 * u(rng));
+      return w;
+    };
+    std::vector<std::string> others = kws::unknown_words();
+    const auto& conf = kws::confusable_words();
+    others.insert(others.end(), conf.begin(), conf.end());
+    others.erase(std::remove(others.begin(), others.end(), keyword), others.end());
+    auto other_text = [&]() -> std::string {
+      const float r = u(rng);
+      if (r < 0.4f) return others[std::uniform_int_distribution<std::size_t>(0, others.size() - 1)(rng)];
+      if (r < 0.7f) return kws::varied_sentence(rng);
+      return kws::random_sentence(rng);
+    };
+    std::vector<RawExample> raw;
+    for (int k = 0; k < positives; ++k) {
+      const std::vector<float> w = say(keyword);
+      const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
+      raw.push_back(place(w, &ctx, 1.0f, noise_pool, rng));
+    }
+    // The keyword heard too long ago (it ended 0.45..1.2 s before), alone or followed by a
+    // command: not a detection now, or a keyword followed by speech fires twice.
+    for (int k = 0; k < late_keywords; ++k) {
+      const std::vector<float> w = say(keyword);
+      const std::vector<float> after = u(rng) < 0.7f ? say(other_text()) : std::vector<float>{};
+      raw.push_back(place(w, nullptr, 0.0f, noise_pool, rng, 0.45f, 1.2f, &after));
+    }
+    std::printf("%d keyword examples, %d late-keyword examples synthesised (%.0f s)\n", positives,
+                late_keywords, head_seconds_since(start));
+    std::fflush(stdout);
+    for (int k = 0; k < negatives; ++k) {
+      std::vector<float> w = say(other_text());
+      // A sentence ending, or a 0.5..1.5 s piece from its middle.
+      if (w.size() > 24000 && u(rng) < 0.5f) {
+        const auto n = static_cast<std::size_t>((0.5f + u(rng)) * 16000.0f);
+        const auto at = std::uniform_int_distribution<std::size_t>(0, w.size() - n)(rng);
+        w = std::vector<float>(w.begin() + static_cast<std::ptrdiff_t>(at), w.begin() + static_cast<std::ptrdiff_t>(at + n));
+      }
+      const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
+      raw.push_back(place(w, &ctx, 0.0f, noise_pool, rng));
+    }
+    for (int k = 0; k < noise_examples; ++k) raw.push_back(place({}, nullptr, 0.0f, noise_pool, rng));
+    std::printf("%d other-speech and %d noise examples synthesised (%.0f s)\n", negatives, noise_examples,
+                head_seconds_since(start));
+    std::size_t real = 0;
+    for (const auto& dir : negative_dirs) {
+      const auto recordings = read_sound_folder(dir, 0);
+      for (int c = 0; c < real_copies; ++c) {
+        for (const auto& r : recordings) raw.push_back(place(r, nullptr, 0.0f, noise_pool, rng));
+      }
+      real += recordings.size() * static_cast<std::size_t>(real_copies);
+      std::printf("%zu real recordings from %s\n", recordings.size(), dir.c_str());
+    }
+    const std::vector<float> conversation =
+        negative_minutes > 0.0 ? kws::negative_speech(negative_minutes * 60.0, voices, noise_pool, rng)
+                               : std::vector<float>{};
+    std::printf("%.1f min of keyword-free conversation synthesised (%.0f s)\n", negative_minutes,
+                head_seconds_since(start));
+    std::fflush(stdout);
+    kws::HeadSet all = embed_examples(raw, models, threads);
+    if (!conversation.empty()) all.append(stream_negatives(conversation, models, conversation_stride));
+    std::size_t pos = 0;
+    for (float l : all.labels) pos += l > 0.5f ? 1 : 0;
+    std::printf("embedded: %zu examples, %zu positive, %zu negative (%zu real) (%.0f s)\n", all.size(), pos,
+                all.size() - pos, real, head_seconds_since(start));
+    // Split 9:1 by a seeded shuffle for the held-back accuracy.
+    std::vector<std::size_t> order(all.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::shuffle(order.begin(), order.end(), rng);
+    kws::HeadSet train, test;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      (k % 10 == 0 ? test : train).add(std::span<const float>(all.inputs).subspan(order[k] * kws::kHeadInputs, kws::kHeadInputs),
+                                       all.labels[order[k]]);
+    }
+    topt.seed = seed;
+    int last_pct = -1;
+    const bool tty = isatty(2) != 0;  // a log file gets one line per epoch
+    topt.progress = [&](int epoch, std::size_t done, std::size_t total, double loss) {
+      const int pct = static_cast<int>(100 * done / total);
+      if ((pct == last_pct || !tty) && done != total) return;
+      last_pct = pct;
+      const int fill = pct * 30 / 100;
+      std::fprintf(stderr, "\repoch %2d/%d [%.*s%*s] %3d%% loss %.4f", epoch + 1, topt.epochs, fill,
+                   "##############################", 30 - fill, "", pct, loss);
+      if (done == total) std::fprintf(stderr, "\n");
+    };
+    kws::EmbeddingHead head = kws::train_head(train, topt);
+    head.keyword = keyword;
+    head.threshold = threshold;
+    head.refractory_seconds = refractory;
+    for (float th : {0.5f, 0.8f, 0.9f, 0.95f}) {
+      const kws::HeadAccuracy a = kws::head_accuracy(head, test, th);
+      std::printf("held-back tenth (%zu examples), threshold %.2f: keyword %.2f%% detected, others %.2f%% rejected\n",
+                  test.size(), static_cast<double>(th), 100.0 * a.positives, 100.0 * a.negatives);
+    }
+    kws::save_head(out, head);
+    std::printf("wrote %s (%ju bytes, keyword \"%s\", threshold %.2f) in %.0f s\n", out.c_str(),
+                static_cast<std::uintmax_t>(std::filesystem::file_size(out)), keyword.c_str(),
+                static_cast<double>(threshold), head_seconds_since(start));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "marvin-kws-train: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
