@@ -45,17 +45,12 @@ void enroll(const VisionArgs& a) {
   vision::FacePipeline pipeline(a.detector);
   std::vector<std::vector<float>> embeddings;
   for (const auto& photo : a.photos) {
-    const cv::Mat image = vision::read_photo(photo);
-    const auto faces = pipeline.faces(image);
-    if (faces.empty()) {
-      throw CliError("photo " + photo + ": no face found (detector " +
-                     pipeline.detector().name() + "); nothing was enrolled");
+    try {
+      embeddings.push_back(
+          vision::lone_face_embedding(pipeline, vision::read_photo(photo), photo, a.name));
+    } catch (const std::invalid_argument& e) {
+      throw CliError(std::string(e.what()) + "; nothing was enrolled");
     }
-    if (faces.size() > 1) {
-      throw CliError("photo " + photo + ": " + std::to_string(faces.size()) +
-                     " faces; give photos of " + a.name + " alone; nothing was enrolled");
-    }
-    embeddings.push_back(faces.front().embedding);
   }
   data::SqliteStore store = a.open();
   vision::FaceGallery gallery(store);

@@ -6,10 +6,15 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "web/web_server.h"
+
+namespace marvin::vision {
+class FacePipeline;
+}  // namespace marvin::vision
 
 namespace marvin::web {
 
@@ -30,6 +35,7 @@ class Api {
  public:
   Api(const WebOptions& options, data::PersonalData& data, data::SqliteStore& store, LiveFeed* feed)
       : options_(options), data_(data), store_(store), feed_(feed) {}
+  ~Api();
 
   ApiResponse handle(const ApiRequest& request);
 
@@ -46,6 +52,7 @@ class Api {
   ApiResponse events(const ApiRequest& r);
   // api_home.cpp: the people Marvin knows by face, smart-home devices, the home map.
   ApiResponse people(const ApiRequest& r, const std::string& id);
+  ApiResponse enroll_person(const ApiRequest& r);
   ApiResponse devices(const ApiRequest& r, const std::string& id);
   ApiResponse home();
 
@@ -53,6 +60,7 @@ class Api {
   data::PersonalData& data_;
   data::SqliteStore& store_;
   LiveFeed* feed_;
+  std::unique_ptr<vision::FacePipeline> faces_;  // the face models, loaded at the first enrolment
 };
 
 // A refusal with its HTTP status; Api::handle() answers {"error": message}.

@@ -4,11 +4,13 @@
 // map is the navigator's floor plan, the robot's pose and the store's sightings.
 #include <cmath>
 #include <numbers>
+#include <opencv2/imgcodecs.hpp>
 
 #include "data/recurrence.h"
 #include "data/sqlite_store.h"
 #include "skills/smart_home.h"
 #include "vision/face_gallery.h"
+#include "vision/face_pipeline.h"
 #include "web/api.h"
 
 namespace marvin::web {
@@ -55,7 +57,38 @@ json floor_map_json(const navigation::FloorMap& map) {
 
 }  // namespace
 
+Api::~Api() = default;
+
+ApiResponse Api::enroll_person(const ApiRequest& r) {
+  auto name = r.query.find("name");
+  if (name == r.query.end() || name->second.empty())
+    throw ApiError(400, "name: missing; send /api/people/enroll?name=NAME with a photo of them");
+  if (r.body.empty()) throw ApiError(400, "photo: empty; send a JPEG or PNG photo of them alone");
+  const cv::Mat bytes(1, static_cast<int>(r.body.size()), CV_8U, const_cast<char*>(r.body.data()));
+  const cv::Mat image = cv::imdecode(bytes, cv::IMREAD_COLOR);
+  if (image.empty()) throw ApiError(400, "photo: not a JPEG or PNG image");
+  try {
+    if (!faces_) faces_ = std::make_unique<vision::FacePipeline>();
+  } catch (const std::exception& e) {
+    throw ApiError(503, std::string("cannot learn faces here: ") + e.what());
+  }
+  std::vector<float> embedding;
+  try {
+    // The same rule as `marvin people enroll`: exactly one face on the photo.
+    auto file = r.query.find("file");
+    embedding = vision::lone_face_embedding(
+        *faces_, image, file == r.query.end() ? "upload" : file->second, name->second);
+  } catch (const std::invalid_argument& e) {
+    throw ApiError(422, std::string(e.what()) + "; nothing was enrolled");
+  }
+  vision::FaceGallery gallery(store_);
+  const std::int64_t id = gallery.enroll(name->second, {embedding}, "web");
+  const std::string stored = gallery.find(name->second)->name;
+  return {201, {{"id", id}, {"name", stored}, {"faces", store_.face_embeddings(id).size()}}};
+}
+
 ApiResponse Api::people(const ApiRequest& r, const std::string& id) {
+  if (r.method == "POST" && id == "enroll") return enroll_person(r);
   vision::FaceGallery gallery(store_);
   if (r.method == "GET" && id.empty()) {
     json list = json::array();

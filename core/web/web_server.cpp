@@ -219,7 +219,8 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
     if (ec) return close();
     const auto& req = parser_->get();
     const std::string target(req.target());
-    const bool upload = target.rfind("/api/skills/install", 0) == 0;
+    const bool upload = target.rfind("/api/skills/install", 0) == 0 ||
+                        target.rfind("/api/people/enroll", 0) == 0;
     const std::size_t limit = upload ? server_.options.upload_limit : kRequestLimit;
     // Refused from the headers: a large body is never read, let alone stored.
     if (const auto length = parser_->content_length(); length && *length > limit)

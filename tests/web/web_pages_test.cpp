@@ -5,6 +5,8 @@
 // change nothing.
 #include <doctest/doctest.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "app/home_link.h"
 #include "home_fixture.h"
 #include "sim/world.h"
@@ -86,6 +88,51 @@ TEST_CASE("web: people are listed, renamed and forgotten through the face galler
   CHECK(site.store.recent_events(1).front().kind == "face_forgotten");
   CHECK(b.send("DELETE", path).status == 404);
   CHECK(site.store.list_people().size() == 1);
+}
+
+TEST_CASE("web: a face is learnt from an uploaded photo, with the CLI's rule of one face") {
+  const std::filesystem::path sample = MARVIN_WEB_TEST_PHOTO;
+  REQUIRE_MESSAGE(std::filesystem::exists(sample), sample.string()
+                                                       << " is missing: run scripts/setup");
+  const cv::Mat group = cv::imread(sample.string());
+  std::vector<unsigned char> alone, everyone;
+  // Anna alone (the crop `marvin people enroll` is tested with), and the whole group.
+  cv::imencode(".png", group(cv::Rect(250, 250, 550, 550)), alone);
+  cv::imencode(".jpg", group, everyone);
+  Site site;
+  Browser b = site.logged_in();
+  auto upload = [&](const std::string& query, const std::vector<unsigned char>& bytes) {
+    return b.send("POST", "/api/people/enroll?" + query, std::string(bytes.begin(), bytes.end()),
+                  {{"Content-Type", "application/octet-stream"}});
+  };
+
+  // Refused: nothing is stored.
+  Reply several = upload("name=Bob&file=party.jpg", everyone);
+  CHECK(several.status == 422);
+  CHECK(several.error().rfind("photo party.jpg: ", 0) == 0);
+  CHECK(several.error().find(" faces; give photos of Bob alone; nothing was enrolled") !=
+        std::string::npos);
+  Reply garbage = upload("name=Bob&file=x.jpg", {'n', 'o', 't', ' ', 'a', 'n', ' ', 'i'});
+  CHECK(garbage.status == 400);
+  CHECK(garbage.error() == "photo: not a JPEG or PNG image");
+  Reply nameless = upload("file=anna.png", alone);
+  CHECK(nameless.status == 400);
+  CHECK(nameless.error() ==
+        "name: missing; send /api/people/enroll?name=NAME with a photo of them");
+  CHECK(site.store.list_people().empty());
+  CHECK(site.store.face_embeddings().empty());
+
+  Reply learnt = upload("name=Anna&file=anna.png", alone);
+  REQUIRE(learnt.status == 201);
+  CHECK(learnt.json()["name"] == "Anna");
+  CHECK(learnt.json()["faces"] == 1);
+  REQUIRE(upload("name=anna&file=anna2.png", alone).json()["faces"] == 2);  // same person
+  const json people = b.send("GET", "/api/people").json();
+  REQUIRE(people.size() == 1);
+  CHECK(people[0]["enrolled_by"] == "web");
+  // The face is the one the robot's camera would recognise.
+  vision::FaceGallery gallery(site.store);
+  CHECK(gallery.list().front().embeddings == 2);
 }
 
 TEST_CASE("web: the home map is the world's floor plan, the robot on it and what was seen") {

@@ -291,6 +291,24 @@ async function loadPeople() {
   if (!people.length) cell(body.appendChild(document.createElement('tr')), 'Nobody yet.');
 }
 
+$('enrol-form').addEventListener('submit', (event) => {
+  event.preventDefault();
+  guarded(async () => {
+    const name = $('enrol-name').value;
+    let result;
+    // One photo per request: a refused photo names itself, the ones before it stay learnt.
+    for (const photo of $('enrol-photos').files) {
+      result = await api('POST', '/api/people/enroll?name=' + encodeURIComponent(name) +
+                         '&file=' + encodeURIComponent(photo.name), photo,
+                         {'Content-Type': 'application/octet-stream'});
+    }
+    $('enrol-form').reset();
+    await loadPeople();
+    say('Marvin knows ' + result.name + ' from ' + result.faces + ' photo' +
+        (result.faces === 1 ? '' : 's') + '.');
+  });
+});
+
 $('person-cancel').addEventListener('click', resetPersonForm);
 $('person-form').addEventListener('submit', (event) => {
   event.preventDefault();

@@ -4,7 +4,7 @@
 // map with the robot on it, installs a signed skill package, sees the skill's error event
 // appear live, logs out.
 //
-// Usage: node browser_test.mjs MARVIN_EXE PUPPETEER_DIR
+// Usage: node browser_test.mjs MARVIN_EXE PUPPETEER_DIR GROUP_PHOTO (a photo of several people)
 // Exit 0: passed; 77: skipped (no chromium or no puppeteer-core, named on stderr); 1: failed.
 import {spawn, execFileSync} from 'node:child_process';
 import {createRequire} from 'node:module';
@@ -12,7 +12,7 @@ import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 
-const [marvin, puppeteerDir] = process.argv.slice(2);
+const [marvin, puppeteerDir, groupPhoto] = process.argv.slice(2);
 const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
 if (!fs.existsSync(chromium)) {
   console.error(`skipped: no chromium at ${chromium} (apt-get install chromium)`);
@@ -145,6 +145,15 @@ async function main() {
   const rooms = await page.$$eval('#home-map polygon.room', (es) => es.length);
   check(rooms > 0 && await page.$('#home-map circle.robot') !== null,
         'the home page draws ' + rooms + ' rooms and the robot: "' + where + '"');
+
+  // People: a group photo is refused with the CLI's rule, named on the page.
+  await page.goto(url + '#people');
+  await page.type('#enrol-name', 'Bob');
+  await (await page.$('#enrol-photos')).uploadFile(groupPhoto);
+  await page.click('#enrol-save');
+  await page.waitForFunction(() => document.getElementById('message').textContent.includes('faces; give photos of Bob alone'));
+  check(run(['people', 'list', '--data-dir', dataDir]).trim() === '',
+        'a group photo uploaded on the People page is refused: "' + await page.$eval('#message', (e) => e.textContent) + '"');
 
   // A contact named with markup is shown as text.
   await page.goto(url + '#contacts');
