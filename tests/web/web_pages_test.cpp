@@ -246,7 +246,8 @@ TEST_CASE("web: devices are listed and switched through the home's broker, as by
   Reply on = b.send("POST", path, json{{"on", true}}.dump());
   REQUIRE(on.status == 200);
   CHECK(on.json()["on"] == true);
-  for (const json& d : b.send("GET", "/api/devices").json()["devices"])
+  const json after = b.send("GET", "/api/devices").json();
+  for (const json& d : after["devices"])
     if (d["name"] == "living room lamp") CHECK(d["on"] == true);
   Reply off = b.send("POST", path, json{{"on", false}}.dump());
   REQUIRE(off.status == 200);
