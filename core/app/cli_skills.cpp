@@ -179,8 +179,8 @@ void run_sim(const RunOptions& o) {
   std::unique_ptr<web::WebServer> page = start_web_for_host(
       host, o.web, *feed, options.installed_skills_dir, options.time_zone);
   if (live || !o.voice.audio_in.empty()) {
-    page.reset();  // the voice run owns the host from here on
-    return run_voice(std::move(host_ptr), o.voice, live);
+    // The voice run owns the host from here on; it stops the page before the host goes.
+    return run_voice(std::move(host_ptr), o.voice, live, std::shared_ptr<void>(std::move(page)));
   }
   const bool interactive = isatty(STDIN_FILENO) != 0;
   if (interactive) {  // typed lines are not echoed, but the page shows them as turns

@@ -1,6 +1,7 @@
-// `marvin people enroll NAME PHOTO...`, `marvin people forget NAME` (the face gallery of
-// core/vision; `marvin people list` is in cli_data.cpp), and `marvin vision look CAMERA`:
-// the faces a camera (or a folder of photos) shows, with names, as JSON lines.
+// `marvin people enroll NAME PHOTO...`, `marvin people forget NAME`, `marvin people rename
+// NAME NEW_NAME` (the face gallery of core/vision; `marvin people list` is in cli_data.cpp),
+// and `marvin vision look CAMERA`: the faces a camera (or a folder of photos) shows, with
+// names, as JSON lines.
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,7 @@ struct VisionArgs {
   std::string data_dir;
   std::string detector = "blazeface";
   std::string name;
+  std::string new_name;
   std::vector<std::string> photos;
   std::string camera;
   int frames = 1;
@@ -43,17 +45,12 @@ void enroll(const VisionArgs& a) {
   vision::FacePipeline pipeline(a.detector);
   std::vector<std::vector<float>> embeddings;
   for (const auto& photo : a.photos) {
-    const cv::Mat image = vision::read_photo(photo);
-    const auto faces = pipeline.faces(image);
-    if (faces.empty()) {
-      throw CliError("photo " + photo + ": no face found (detector " +
-                     pipeline.detector().name() + "); nothing was enrolled");
+    try {
+      embeddings.push_back(
+          vision::lone_face_embedding(pipeline, vision::read_photo(photo), photo, a.name));
+    } catch (const std::invalid_argument& e) {
+      throw CliError(std::string(e.what()) + "; nothing was enrolled");
     }
-    if (faces.size() > 1) {
-      throw CliError("photo " + photo + ": " + std::to_string(faces.size()) +
-                     " faces; give photos of " + a.name + " alone; nothing was enrolled");
-    }
-    embeddings.push_back(faces.front().embedding);
   }
   data::SqliteStore store = a.open();
   vision::FaceGallery gallery(store);
@@ -69,6 +66,19 @@ void forget(const VisionArgs& a) {
     throw CliError("nobody called " + a.name + " is enrolled (see `marvin people list`)");
   }
   std::printf("forgot %s and their face embeddings\n", a.name.c_str());
+}
+
+void rename(const VisionArgs& a) {
+  data::SqliteStore store = a.open();
+  vision::FaceGallery gallery(store);
+  try {
+    if (!gallery.rename(a.name, a.new_name, "cli")) {
+      throw CliError("nobody called " + a.name + " is enrolled (see `marvin people list`)");
+    }
+  } catch (const std::invalid_argument& e) {
+    throw CliError(e.what(), 2);
+  }
+  std::printf("%s is now called %s\n", a.name.c_str(), a.new_name.c_str());
 }
 
 void look(const VisionArgs& a) {
@@ -116,6 +126,14 @@ void install_vision(CLI::App& root) {
     cmd->add_option("NAME", a->name, "the person's name")->required();
     a->add_data_dir(*cmd);
     cmd->callback([a] { forget(*a); });
+  }
+  {
+    auto a = std::make_shared<VisionArgs>();
+    auto* cmd = people.add_subcommand("rename", "Call an enrolled person by another name");
+    cmd->add_option("NAME", a->name, "the person's name now")->required();
+    cmd->add_option("NEW_NAME", a->new_name, "the name to use from now on")->required();
+    a->add_data_dir(*cmd);
+    cmd->callback([a] { rename(*a); });
   }
   CLI::App& vision_cmd = command_group(root, "vision", "Cameras and what they see");
   {

@@ -262,7 +262,10 @@ void stop_voice_on_signal(int) {
 }  // namespace
 
 void run_voice(std::unique_ptr<Host> host_ptr, const VoiceRunOptions& o,
-               const std::shared_ptr<LiveAudio>& live) {
+               const std::shared_ptr<LiveAudio>& live, std::shared_ptr<void> page) {
+  // A local goes before the parameters on every way out (also a throw): the page, which
+  // calls into the host, stops before the host is destroyed.
+  std::shared_ptr<void> serving = std::move(page);
   Host& host = *host_ptr;
   std::vector<std::int16_t> input;
   if (!live) {
@@ -311,6 +314,7 @@ void run_voice(std::unique_ptr<Host> host_ptr, const VoiceRunOptions& o,
     std::signal(SIGINT, SIG_DFL);
     interrupted_voice.store(nullptr);
   }
+  serving.reset();   // the web page calls into the host: it stops first
   host_ptr.reset();  // first: a task or the scheduler may still be talking to the front end
   voice.reset();
   if (failure) {

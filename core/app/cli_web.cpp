@@ -16,6 +16,7 @@
 #include "app/web_run.h"
 #include "common/log.h"
 #include "data/sqlite_store.h"
+#include "navigation/navigator.h"
 #include "web/auth.h"
 
 namespace marvin::app {
@@ -162,10 +163,15 @@ std::unique_ptr<web::WebServer> start_web_for_host(Host& host, const WebRunOptio
     log(LogLevel::kInfo, "web", "the web page is off until a password is set with `marvin web password`");
     return nullptr;
   }
-  auto server = std::make_unique<web::WebServer>(
-      web_options(options, data_dir, skills_dir.empty() ? default_skills_dir() : skills_dir,
-                  time_zone),
-      host.data(), *host.store(), &feed);
+  web::WebOptions w = web_options(
+      options, data_dir, skills_dir.empty() ? default_skills_dir() : skills_dir, time_zone);
+  // The devices and home pages: the same smart home and navigator voice and skills use.
+  w.smart_home = host.smart_home();
+  if (navigation::Navigator* navigator = host.navigator()) {
+    w.floor_map = &navigator->map();
+    w.robot_pose = [navigator]() -> std::optional<navigation::Pose> { return navigator->pose(); };
+  }
+  auto server = std::make_unique<web::WebServer>(std::move(w), host.data(), *host.store(), &feed);
   try {
     server->start();
   } catch (const std::exception& e) {

@@ -481,6 +481,12 @@ void Host::start_phone() {
   });
 }
 
+navigation::Navigator* Host::navigator() {
+  if (sim_home_) return &sim_home_->navigator();
+  if (serial_navigation_) return &serial_navigation_->navigator();
+  return nullptr;
+}
+
 void Host::set_room_hook(std::function<std::string()> hook) {
   if (home_) home_->set_room_hook(std::move(hook));
 }

@@ -27,6 +27,10 @@
 #include "skills/manager.h"
 #include "skills/registry.h"
 
+namespace marvin::navigation {
+class Navigator;
+}  // namespace marvin::navigation
+
 namespace marvin::app {
 
 class SerialNavigation;
@@ -162,6 +166,11 @@ class Host {
   home::HomeService* home() { return home_.get(); }
   void set_room_hook(std::function<std::string()> hook);
   void publish_event(const std::string& event_type, const std::string& text);
+  // For the web page: the smart home as voice commands and skills use it (null without one),
+  // and the navigator going places (the simulated home's or the serial base's floor plan;
+  // null without a world file).
+  skills::SmartHome* smart_home() { return services_.smarthome; }
+  navigation::Navigator* navigator();
   // The telephone, when HostOptions::phone asked for one and baresip started; else null.
   HostPhone* phone() { return phone_.get(); }
 

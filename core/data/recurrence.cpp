@@ -233,6 +233,33 @@ std::int32_t parse_hhmm(const std::string& text, const std::string& what) {
 
 }  // namespace
 
+std::pair<std::string, std::string> format_repeat(const Recurrence& r) {
+  static const char* kDayNames[] = {"mon", "tue", "wed", "thu", "fri", "sat", "sun"};
+  auto hhmm = [](std::int32_t minute) {
+    char text[8];
+    std::snprintf(text, sizeof text, "%02d:%02d", minute / 60 % 100, minute % 60);
+    return std::string(text);
+  };
+  switch (r.kind) {
+    case Recurrence::Kind::kOnce:
+      return {"once", ""};
+    case Recurrence::Kind::kDaily:
+      return {"daily", ""};
+    case Recurrence::Kind::kWeekdays:
+      return {"weekdays", ""};
+    case Recurrence::Kind::kWeekly: {
+      std::string days;
+      for (int i = 0; i < 7; ++i)
+        if (r.weekdays & (1u << i)) days += (days.empty() ? "" : ",") + std::string(kDayNames[i]);
+      return {"weekly:" + days, ""};
+    }
+    case Recurrence::Kind::kInterval:
+      return {"every:" + std::to_string(r.interval_minutes),
+              hhmm(r.window_start_minute) + "-" + hhmm(r.window_end_minute)};
+  }
+  return {"once", ""};
+}
+
 Recurrence parse_repeat(std::string_view repeat_text, std::string_view window_text) {
   const std::string repeat(repeat_text), window(window_text);
   Recurrence r;

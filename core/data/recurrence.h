@@ -23,6 +23,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "data/personal_data.h"
 
@@ -57,5 +58,8 @@ std::string describe(const Recurrence& recurrence);
 // (end exclusive) only for every:MINUTES. Throws std::runtime_error starting with the field
 // ("repeat: ...", "window: ...") and saying what was expected.
 Recurrence parse_repeat(std::string_view repeat, std::string_view window);
+// The other way: the `repeat` and `window` parse_repeat takes back to `recurrence` (window
+// empty unless every:MINUTES), so an edit form starts from what is stored.
+std::pair<std::string, std::string> format_repeat(const Recurrence& recurrence);
 
 }  // namespace marvin::data

@@ -373,30 +373,35 @@ bool SqliteStore::advance_reminder(std::int64_t id, std::int64_t expected_next,
 
 std::size_t SqliteStore::advance_reminders(const std::vector<Advance>& advances) {
   if (advances.empty()) return 0;
-  std::lock_guard lock(mutex_);
-  Transaction tx(db_, path_text_);
-  Statement s(db_, path_text_,
-              "UPDATE reminders SET next_fire_utc_ms = ?, state = ?, last_fired_utc_ms = ? "
-              "WHERE id = ? AND state = 0 AND next_fire_utc_ms = ?");
-  Statement ev(db_, path_text_,
-               "INSERT INTO events(time_utc_ms, kind, source, message) VALUES(?, ?, 'scheduler', ?)");
+  bool logged = false;
   std::size_t applied = 0;
-  for (const Advance& a : advances) {
-    s.reset();
-    s.bind(1, a.next_utc_ms.value_or(a.expected_next_utc_ms))
-        .bind(2, std::int64_t{a.next_utc_ms ? 0 : 1})
-        .bind(3, a.fired_utc_ms)
-        .bind(4, a.id)
-        .bind(5, a.expected_next_utc_ms)
-        .run();
-    if (sqlite3_changes(db_) == 0) continue;
-    ++applied;
-    if (!a.event_kind.empty()) {
-      ev.reset();
-      ev.bind(1, now()).bind(2, a.event_kind).bind(3, a.event_message).run();
+  {
+    std::lock_guard lock(mutex_);
+    Transaction tx(db_, path_text_);
+    Statement s(db_, path_text_,
+                "UPDATE reminders SET next_fire_utc_ms = ?, state = ?, last_fired_utc_ms = ? "
+                "WHERE id = ? AND state = 0 AND next_fire_utc_ms = ?");
+    Statement ev(db_, path_text_,
+                 "INSERT INTO events(time_utc_ms, kind, source, message) VALUES(?, ?, 'scheduler', ?)");
+    for (const Advance& a : advances) {
+      s.reset();
+      s.bind(1, a.next_utc_ms.value_or(a.expected_next_utc_ms))
+          .bind(2, std::int64_t{a.next_utc_ms ? 0 : 1})
+          .bind(3, a.fired_utc_ms)
+          .bind(4, a.id)
+          .bind(5, a.expected_next_utc_ms)
+          .run();
+      if (sqlite3_changes(db_) == 0) continue;
+      ++applied;
+      if (!a.event_kind.empty()) {
+        ev.reset();
+        ev.bind(1, now()).bind(2, a.event_kind).bind(3, a.event_message).run();
+        logged = true;
+      }
     }
+    tx.commit();
   }
-  tx.commit();
+  if (logged) events_written_.notify();  // outside the lock: a watcher may read the log
   return applied;
 }
 
@@ -555,6 +560,14 @@ bool SqliteStore::remove_person(std::int64_t id) {
   return sqlite3_changes(db_) > 0;
 }
 
+bool SqliteStore::rename_person(std::int64_t id, std::string_view name) {
+  if (name.empty()) throw std::runtime_error("name: a person needs a name");
+  std::lock_guard lock(mutex_);
+  Statement s(db_, path_text_, "UPDATE people SET name = ? WHERE id = ?");
+  s.bind(1, name).bind(2, id).run();
+  return sqlite3_changes(db_) > 0;
+}
+
 std::int64_t SqliteStore::add_face_embedding(std::int64_t person_id, std::string_view model_id,
                                              std::span<const float> values) {
   if (model_id.empty()) throw std::runtime_error("model_id: a face embedding needs its model id");
@@ -651,10 +664,13 @@ std::vector<std::pair<std::string, std::string>> SqliteStore::device_aliases() {
 
 void SqliteStore::log_event(std::string_view kind, std::string_view source, std::string_view message) {
   if (kind.empty()) throw std::runtime_error("kind: an event needs a kind");
-  std::lock_guard lock(mutex_);
-  Statement s(db_, path_text_,
-              "INSERT INTO events(time_utc_ms, kind, source, message) VALUES(?,?,?,?)");
-  s.bind(1, now()).bind(2, kind).bind(3, source).bind(4, message).run();
+  {
+    std::lock_guard lock(mutex_);
+    Statement s(db_, path_text_,
+                "INSERT INTO events(time_utc_ms, kind, source, message) VALUES(?,?,?,?)");
+    s.bind(1, now()).bind(2, kind).bind(3, source).bind(4, message).run();
+  }
+  events_written_.notify();  // outside the lock: a watcher may read the log
 }
 
 void SqliteStore::record_sighting(const Sighting& g) {

@@ -27,6 +27,7 @@
 #include <span>
 #include <string>
 
+#include "data/change_signal.h"
 #include "data/clock.h"
 #include "data/personal_data.h"
 #include "data/sighting.h"
@@ -149,6 +150,9 @@ class SqliteStore final : public PersonalData {
   std::int64_t add_person(const Person& person);
   // Removes the person and their embeddings; false if there was none.
   bool remove_person(std::int64_t id);
+  // Gives person `id` another name (their embeddings stay); false if there is none. An empty
+  // name: std::runtime_error naming the field, nothing changed.
+  bool rename_person(std::int64_t id, std::string_view name);
   std::int64_t add_face_embedding(std::int64_t person_id, std::string_view model_id,
                                   std::span<const float> values);
   // All embeddings, or those of one person.
@@ -165,6 +169,10 @@ class SqliteStore final : public PersonalData {
   // --- event log ----------------------------------------------------------------
   // The latest `limit` events, newest first.
   std::vector<Event> recent_events(std::size_t limit);
+  // Notified after every commit that added events (log_event, advance_reminder(s) with an
+  // event), on the writing thread: the web page shows new events at once, without reading
+  // the log on a timer. Events written by other processes are not notified here.
+  ChangeSignal& events_written() { return events_written_; }
 
   // --- backup ---------------------------------------------------------------------
   // Everything (all reminders in every state, contacts, people, faces, storage, events)
@@ -185,6 +193,7 @@ class SqliteStore final : public PersonalData {
   const Clock* clock_;
   std::mutex mutex_;
   sqlite3* db_ = nullptr;
+  ChangeSignal events_written_;
 };
 
 }  // namespace marvin::data

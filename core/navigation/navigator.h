@@ -65,6 +65,8 @@ class Navigator : public GoingPlaces {
   std::optional<PlaceInfo> find_place(std::string_view name) override;
 
   const FloorMap& map() const { return map_; }
+  // Where the robot is now (its pose source). Any thread.
+  Pose pose() const { return pose_(); }
   const NavigatorOptions& options() const { return options_; }
   // The path being followed (or last followed), for pictures. Any thread.
   std::vector<Vec2> path() const;

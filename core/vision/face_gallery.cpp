@@ -66,6 +66,20 @@ bool FaceGallery::forget(const std::string& name, std::string_view who) {
   return true;
 }
 
+bool FaceGallery::rename(const std::string& name, const std::string& new_name,
+                         std::string_view who) {
+  if (new_name.empty()) throw std::invalid_argument("new name: empty; give the person's name");
+  auto p = find(name);
+  if (!p) return false;
+  if (auto other = find(new_name); other && other->id != p->id) {
+    throw std::invalid_argument("new name: " + other->name +
+                                " is already enrolled; forget or rename them first");
+  }
+  store_.rename_person(p->id, new_name);
+  store_.log_event("face_renamed", who, p->name + " is now called " + new_name);
+  return true;
+}
+
 std::vector<GalleryPerson> FaceGallery::list() {
   std::vector<GalleryPerson> out;
   std::map<std::int64_t, int> counts;

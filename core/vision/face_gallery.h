@@ -50,6 +50,10 @@ class FaceGallery {
                       std::string_view who);
   // Removes the person and all their embeddings; false if nobody has that name.
   bool forget(const std::string& name, std::string_view who);
+  // Calls the person `name` `new_name` from now on (their faces stay); logged as
+  // "face_renamed". False if nobody has that name. Throws std::invalid_argument naming the
+  // field when `new_name` is empty or already someone else's; nothing changes then.
+  bool rename(const std::string& name, const std::string& new_name, std::string_view who);
   std::vector<GalleryPerson> list();
   FaceMatch identify(const std::vector<float>& embedding,
                      float threshold = kDefaultFaceThreshold);

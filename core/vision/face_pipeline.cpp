@@ -1,6 +1,7 @@
 #include "vision/face_pipeline.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace marvin::vision {
 
@@ -29,6 +30,20 @@ std::optional<Face> FacePipeline::main_face(const cv::Mat& image_bgr, bool whole
   }
   face.embedding = embedder_.embed_chip(face_chip(image_bgr, face));
   return face;
+}
+
+std::vector<float> lone_face_embedding(FacePipeline& pipeline, const cv::Mat& image_bgr,
+                                       const std::string& photo, const std::string& who) {
+  std::vector<Face> found = pipeline.faces(image_bgr);
+  if (found.empty()) {
+    throw std::invalid_argument("photo " + photo + ": no face found (detector " +
+                                pipeline.detector().name() + ")");
+  }
+  if (found.size() > 1) {
+    throw std::invalid_argument("photo " + photo + ": " + std::to_string(found.size()) +
+                                " faces; give photos of " + who + " alone");
+  }
+  return std::move(found.front().embedding);
 }
 
 }  // namespace marvin::vision

@@ -32,6 +32,12 @@ class FacePipeline {
   FaceEmbedder embedder_;
 };
 
+// Enrolment's rule for a photo (`marvin people enroll` and the web page alike): the embedding
+// of its one face. Throws std::invalid_argument "photo PHOTO: no face found (detector D)" or
+// "photo PHOTO: N faces; give photos of WHO alone" (PHOTO: the file's name as the user gave it).
+std::vector<float> lone_face_embedding(FacePipeline& pipeline, const cv::Mat& image_bgr,
+                                       const std::string& photo, const std::string& who);
+
 }  // namespace marvin::vision
 
 #endif  // MARVIN_VISION_FACE_PIPELINE_H_

@@ -20,22 +20,6 @@ using nlohmann::json;
 
 namespace {
 
-// A refusal with its HTTP status; handle() turns it into {"error": message}.
-struct ApiError : std::runtime_error {
-  ApiError(unsigned s, const std::string& message) : std::runtime_error(message), status(s) {}
-  unsigned status;
-};
-
-json parse_body(const std::string& body) {
-  try {
-    json doc = json::parse(body);
-    if (!doc.is_object()) throw ApiError(400, "request body: expected a JSON object");
-    return doc;
-  } catch (const json::parse_error& e) {
-    throw ApiError(400, std::string("request body: not valid JSON (") + e.what() + ")");
-  }
-}
-
 std::string text_field(const json& doc, const char* name, bool required,
                        const std::string& fallback = "") {
   auto it = doc.find(name);
@@ -63,18 +47,15 @@ std::vector<std::string> list_field(const json& doc, const char* name) {
   return out;
 }
 
-std::int64_t parse_id(const std::string& text, const char* what) {
-  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos)
-    throw ApiError(404, std::string(what) + " id '" + text + "' is not a number");
-  return std::stoll(text);
-}
-
 json reminder_json(const data::Reminder& r) {
+  const auto [repeat_spec, window] = data::format_repeat(r.recurrence);
   return {{"id", r.id},
           {"title", r.title},
           {"next", data::format_local(r.next_fire_utc_ms, r.time_zone)},
           {"next_utc_ms", r.next_fire_utc_ms},
           {"repeat", data::describe(r.recurrence)},
+          {"repeat_spec", repeat_spec},  // as the form and `marvin schedule add --repeat` write it
+          {"window", window},
           {"time_zone", r.time_zone},
           {"created_by", r.created_by}};
 }
@@ -112,6 +93,22 @@ void check_upload_name(const std::string& name) {
 }
 
 }  // namespace
+
+json parse_body(const std::string& body) {
+  try {
+    json doc = json::parse(body);
+    if (!doc.is_object()) throw ApiError(400, "request body: expected a JSON object");
+    return doc;
+  } catch (const json::parse_error& e) {
+    throw ApiError(400, std::string("request body: not valid JSON (") + e.what() + ")");
+  }
+}
+
+std::int64_t parse_id(const std::string& text, const char* what) {
+  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos)
+    throw ApiError(404, std::string(what) + " id '" + text + "' is not a number");
+  return std::stoll(text);
+}
 
 std::string url_decode(std::string_view text) {
   std::string out;
@@ -166,6 +163,9 @@ ApiResponse Api::handle(const ApiRequest& r) {
       return skills(r, parts[1], parts[2]);
     }
     if (what == "events" && r.method == "GET") return events(r);
+    if (what == "people") return people(r, parts[1]);
+    if (what == "devices") return devices(r, parts[1]);
+    if (what == "home" && r.method == "GET") return home();
     return {404, {{"error", "no API operation " + r.method + " " + r.path + " (see API.md)"}}};
   } catch (const ApiError& e) {
     return {e.status, {{"error", e.what()}}};

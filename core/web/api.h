@@ -1,14 +1,20 @@
 // The JSON API's operations (API.md), apart from the transport: login, sessions, CSRF and
 // live updates are the server's (web_server.cpp). Each operation calls the same core
 // function as the CLI: data::parse_repeat and local_to_utc_ms for reminders, the store's
-// add/list/remove, store::Installer for skills.
+// add/list/remove, store::Installer for skills, vision::FaceGallery for people, the host's
+// smart home (skills::SmartHome, as voice and skills use it) for devices.
 #pragma once
 
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "web/web_server.h"
+
+namespace marvin::vision {
+class FacePipeline;
+}  // namespace marvin::vision
 
 namespace marvin::web {
 
@@ -29,6 +35,7 @@ class Api {
  public:
   Api(const WebOptions& options, data::PersonalData& data, data::SqliteStore& store, LiveFeed* feed)
       : options_(options), data_(data), store_(store), feed_(feed) {}
+  ~Api();
 
   ApiResponse handle(const ApiRequest& request);
 
@@ -43,12 +50,28 @@ class Api {
   ApiResponse skills(const ApiRequest& r, const std::string& id, const std::string& action);
   ApiResponse install_skill(const ApiRequest& r);
   ApiResponse events(const ApiRequest& r);
+  // api_home.cpp: the people Marvin knows by face, smart-home devices, the home map.
+  ApiResponse people(const ApiRequest& r, const std::string& id);
+  ApiResponse enroll_person(const ApiRequest& r);
+  ApiResponse devices(const ApiRequest& r, const std::string& id);
+  ApiResponse home();
 
   const WebOptions& options_;
   data::PersonalData& data_;
   data::SqliteStore& store_;
   LiveFeed* feed_;
+  std::unique_ptr<vision::FacePipeline> faces_;  // the face models, loaded at the first enrolment
 };
+
+// A refusal with its HTTP status; Api::handle() answers {"error": message}.
+struct ApiError : std::runtime_error {
+  ApiError(unsigned s, const std::string& message) : std::runtime_error(message), status(s) {}
+  unsigned status;
+};
+
+// The request's JSON object (400 naming the body otherwise), and an id in a path.
+nlohmann::json parse_body(const std::string& body);
+std::int64_t parse_id(const std::string& text, const char* what);
 
 // "a%20b" -> "a b"; throws std::runtime_error on a bad escape.
 std::string url_decode(std::string_view text);

@@ -1,5 +1,6 @@
 #include "web/web_server.h"
 
+#include <sys/inotify.h>
 #include <unistd.h>
 
 // clang-format off
@@ -8,10 +9,12 @@
 #include <array>
 #include <atomic>
 #include <boost/asio.hpp>
+#include <boost/asio/posix/stream_descriptor.hpp>
 #include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl.hpp>
+#include <cstring>
 #include <deque>
 #include <fstream>
 #include <iterator>
@@ -125,7 +128,15 @@ struct WebServer::Impl {
 
   Clock::time_point now() const { return options.now ? options.now() : Clock::now(); }
   void accept();
-  void poll_events();
+  // Reads the event log's new entries and sends them to the open pages (server's thread).
+  void read_new_events();
+  // Any thread: posts one read_new_events() unless one is already waiting to run.
+  void wake_for_events();
+  // Events written by other processes on the same file: inotify on the database's folder
+  // (each commit writes the WAL), read on the server's thread.
+  void watch_other_writers();
+  void read_file_changes();
+  void recheck_after_change(std::size_t round);
   void broadcast(const std::string& kind, const json& update);
 
   WebOptions options;
@@ -136,11 +147,16 @@ struct WebServer::Impl {
   asio::io_context ioc;
   ssl::context tls{ssl::context::tls_server};
   std::optional<tcp::acceptor> acceptor;
-  std::optional<asio::steady_timer> poll_timer;
+  std::uint64_t events_watch = 0;               // the store's events_written() token
+  std::atomic<bool> events_read_queued{false};  // a read_new_events() is posted, not yet run
+  std::optional<asio::posix::stream_descriptor> file_changes;  // inotify, or none
+  std::optional<asio::steady_timer> recheck_timer;             // re-reads after a change
+  std::string db_name;                                         // "marvin.db"
+  std::array<char, 4096> file_change_buffer;
   std::thread thread;
   std::uint16_t port = 0;
   bool running = false;
-  bool stopping = false;  // on the server's thread: no new accepts or polls
+  bool stopping = false;  // on the server's thread: no new accepts or reads
   Sessions sessions;
   LoginLimiter limiter;
   std::int64_t last_event_id = 0;
@@ -203,7 +219,8 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
     if (ec) return close();
     const auto& req = parser_->get();
     const std::string target(req.target());
-    const bool upload = target.rfind("/api/skills/install", 0) == 0;
+    const bool upload = target.rfind("/api/skills/install", 0) == 0 ||
+                        target.rfind("/api/people/enroll", 0) == 0;
     const std::size_t limit = upload ? server_.options.upload_limit : kRequestLimit;
     // Refused from the headers: a large body is never read, let alone stored.
     if (const auto length = parser_->content_length(); length && *length > limit)
@@ -496,7 +513,12 @@ void WebServer::Impl::broadcast(const std::string& kind, const json& update) {
   live_count = live.size();
 }
 
-void WebServer::Impl::poll_events() {
+void WebServer::Impl::wake_for_events() {
+  if (!events_read_queued.exchange(true)) asio::post(ioc, [this] { read_new_events(); });
+}
+
+void WebServer::Impl::read_new_events() {
+  events_read_queued = false;  // before reading: a write from now on posts another read
   if (stopping) return;
   try {
     std::vector<data::Event> fresh;
@@ -510,11 +532,57 @@ void WebServer::Impl::poll_events() {
                 api.event_json(it->id, it->time_utc_ms, it->kind, it->source, it->message));
     }
   } catch (const std::exception&) {
-    // A busy or failing database is reported by the page's next request; retry next tick.
+    // A busy or failing database is reported by the page's next request; the next event
+    // written reads again from the same point.
   }
-  poll_timer->expires_after(options.event_poll);
-  poll_timer->async_wait([this](beast::error_code ec) {
-    if (!ec) poll_events();
+}
+
+void WebServer::Impl::watch_other_writers() {
+  const int fd = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  if (fd < 0) return;  // no live events from other processes; this one's still come
+  const fs::path db = store.path();
+  if (::inotify_add_watch(fd, db.parent_path().c_str(), IN_MODIFY | IN_CLOSE_WRITE) < 0) {
+    ::close(fd);
+    return;
+  }
+  db_name = db.filename().string();
+  file_changes.emplace(ioc, fd);
+  recheck_timer.emplace(ioc);
+  read_file_changes();
+}
+
+void WebServer::Impl::read_file_changes() {
+  file_changes->async_read_some(
+      asio::buffer(file_change_buffer), [this](beast::error_code ec, std::size_t n) {
+        if (ec || stopping) return;
+        // Records: struct inotify_event, then its name (padded). The database or its WAL
+        // changed (anyone's commit, ours too): read now and re-check shortly after.
+        for (std::size_t at = 0; at + sizeof(inotify_event) <= n;) {
+          inotify_event head;
+          std::memcpy(&head, file_change_buffer.data() + at, sizeof head);
+          const char* name = file_change_buffer.data() + at + sizeof head;
+          if (head.len && std::string(name, strnlen(name, head.len)).rfind(db_name, 0) == 0) {
+            wake_for_events();
+            recheck_after_change(0);
+            break;
+          }
+          at += sizeof head + head.len;
+        }
+        read_file_changes();
+      });
+}
+
+void WebServer::Impl::recheck_after_change(std::size_t round) {
+  // Another process's commit becomes visible when it updates the shared WAL index (memory
+  // mapped, so inotify does not see it), just after its last file write and fsync: look
+  // again 50, 250 and 1000 ms after the last change, then rest until the next change.
+  static constexpr std::array<int, 3> kAfterMs = {50, 250, 1000};
+  if (round >= kAfterMs.size()) return;
+  recheck_timer->expires_after(std::chrono::milliseconds(kAfterMs[round]));
+  recheck_timer->async_wait([this, round](beast::error_code ec) {
+    if (ec || stopping) return;  // cancelled by a newer change (which starts again) or stop
+    wake_for_events();
+    recheck_after_change(round + 1);
   });
 }
 
@@ -573,9 +641,11 @@ void WebServer::start() {
     throw std::runtime_error("web page: cannot listen on " + s.options.listen + ": " + e.what());
   }
   for (const data::Event& e : s.store.recent_events(1)) s.last_event_id = e.id;
-  s.poll_timer.emplace(s.ioc);
   s.accept();
-  s.poll_events();
+  // The store tells when this process wrote events; the read happens on the server's
+  // thread, and a burst of writes before it runs is one read. Nothing runs while idle.
+  s.events_watch = s.store.events_written().watch([&s] { s.wake_for_events(); });
+  s.watch_other_writers();
   if (s.feed) {
     s.feed->set_listener([&s](const std::string& kind, const json& update) {
       asio::post(s.ioc, [&s, kind, update] { s.broadcast(kind, update); });
@@ -589,13 +659,15 @@ void WebServer::stop() {
   Impl& s = *impl_;
   if (!s.running) return;
   if (s.feed) s.feed->set_listener(nullptr);
+  s.store.events_written().unwatch(s.events_watch);
   asio::post(s.ioc, [&s] {
     // A timer or accept that completed just before is already queued: the flag stops it
     // from starting the next round.
     s.stopping = true;
     beast::error_code ec;
     s.acceptor->close(ec);
-    s.poll_timer->cancel();
+    if (s.file_changes) s.file_changes->close(ec);
+    if (s.recheck_timer) s.recheck_timer->cancel();
     for (const auto& weak : s.connections)
       if (auto c = weak.lock()) c->close();
     s.live.clear();

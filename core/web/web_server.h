@@ -19,9 +19,11 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "navigation/floor_map.h"
 #include "store/minisign.h"
 #include "web/auth.h"
 
@@ -29,6 +31,10 @@ namespace marvin::data {
 class PersonalData;
 class SqliteStore;
 }  // namespace marvin::data
+
+namespace marvin::skills {
+class SmartHome;
+}  // namespace marvin::skills
 
 namespace marvin::web {
 
@@ -58,8 +64,14 @@ struct WebOptions {
   std::size_t upload_limit = 32 * 1024 * 1024;
   std::chrono::seconds session_ttl = std::chrono::hours(12);
   int login_attempts_per_minute = 5;
-  // How often the event log is looked at for new events while a page is open.
-  std::chrono::milliseconds event_poll = std::chrono::milliseconds(200);
+  // What only the running robot has; null or empty under `marvin web serve`, and the pages
+  // say so. The smart home the voice commands and the skills switch devices through
+  // (app::HomeLink: the devices page); the home's floor plan (the world file's, as the
+  // navigator has it) and where the robot is on it now (the home page). All must outlive
+  // the server; robot_pose is called on the server's thread.
+  skills::SmartHome* smart_home = nullptr;
+  const navigation::FloorMap* floor_map = nullptr;
+  std::function<std::optional<navigation::Pose>()> robot_pose;
   // The time sessions and the rate limit use (tests move it forward). Unset: steady_clock.
   std::function<Clock::time_point()> now;
 };

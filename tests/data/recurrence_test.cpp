@@ -177,3 +177,23 @@ TEST_CASE("invalid recurrences are refused with the field named") {
   r.title.clear();
   CHECK_THROWS_WITH(validate_reminder(r), "title: a reminder needs a title");
 }
+
+TEST_CASE("a repeat as the carer writes it reads back the same (the web page's edit form)") {
+  for (const auto& [repeat, window] : std::vector<std::pair<std::string, std::string>>{
+           {"once", ""},
+           {"daily", ""},
+           {"weekdays", ""},
+           {"weekly:mon,thu,sun", ""},
+           {"every:240", "08:00-20:00"},
+           {"every:30", "00:00-24:00"}}) {
+    CAPTURE(repeat);
+    const Recurrence r = parse_repeat(repeat, window);
+    CHECK(format_repeat(r) == std::pair{repeat, window});
+    CHECK(describe(parse_repeat(format_repeat(r).first, format_repeat(r).second)) == describe(r));
+  }
+  // The refusals name the field.
+  CHECK_THROWS_WITH(parse_repeat("weekly:mon,xyz", ""),
+                    "repeat: unknown day 'xyz' (expected mon,tue,wed,thu,fri,sat,sun)");
+  CHECK_THROWS_WITH(parse_repeat("daily", "08:00-20:00"),
+                    "window: only applies to repeat every:MINUTES");
+}

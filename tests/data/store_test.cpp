@@ -446,3 +446,37 @@ TEST_CASE("device aliases: kept across opening, replaced, case-blind; bad input 
   CHECK_FALSE(store.remove_device_alias("the big lamp"));
   CHECK(store.device_aliases() == Pairs{{"telly", "z2m:living room/tv"}});
 }
+
+TEST_CASE("writing events tells the watchers after the commit; other writes and unwatched ones do not") {
+  TempDir dir;
+  SqliteStore store(at(dir.db()));
+  std::vector<std::int64_t> seen;  // the newest event id each watcher call could read
+  const auto token = store.events_written().watch([&] {
+    const auto latest = store.recent_events(1);  // the lock is free and the row committed
+    seen.push_back(latest.empty() ? 0 : latest.front().id);
+  });
+  store.add_contact(anna());
+  store.add_reminder(pills());
+  CHECK(seen.empty());
+  store.log_event("intruder", "guard", "someone in the hall");
+  REQUIRE(seen.size() == 1);
+  CHECK(seen[0] == store.recent_events(1).front().id);
+
+  // A reminder the scheduler retires with an event (a missed one) tells too; without: not.
+  const Reminder r = *store.get_reminder(store.list_reminders().front().id);
+  CHECK(store.advance_reminder(r.id, r.next_fire_utc_ms, r.next_fire_utc_ms,
+                               r.next_fire_utc_ms + 60000));
+  CHECK(seen.size() == 1);
+  CHECK(store.advance_reminder(r.id, r.next_fire_utc_ms + 60000, r.next_fire_utc_ms + 60000,
+                               std::nullopt, "reminder_missed", "take my pills"));
+  REQUIRE(seen.size() == 2);
+  CHECK(store.recent_events(1).front().kind == "reminder_missed");
+
+  // A refused event (no kind) changes nothing and tells nobody.
+  CHECK_THROWS_WITH(store.log_event("", "x", "y"), "kind: an event needs a kind");
+  CHECK(seen.size() == 2);
+
+  store.events_written().unwatch(token);
+  store.log_event("note", "test", "after unwatch");
+  CHECK(seen.size() == 2);
+}

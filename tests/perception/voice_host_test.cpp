@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -15,6 +16,7 @@
 #include "devices/audio/sound_file.h"
 #include "speech_fixture.h"
 #include "support/child_process.h"
+#include "web_client.h"
 
 namespace fs = std::filesystem;
 using namespace marvin::perception::testing;
@@ -266,4 +268,37 @@ TEST_CASE("bad input: a missing recording, --audio-in without --sim, no sound ca
   CHECK(r.errors.find("\"marvin-test-no-such-card\"") != std::string::npos);
   CHECK(r.errors.find("--sim") != std::string::npos);
   CHECK(r.lines.empty());
+}
+
+TEST_CASE("the carer's web page is served in the voice mode too, and stops before the host") {
+  const fs::path dir = temp_dir();
+  const fs::path data = dir / "web-data";
+  // The password the page needs, set as the carer does (`marvin web password`).
+  marvin::test_support::ChildProcess password = marvin::test_support::ChildProcess::shell(
+      std::string("printf 'voice page password\\n' | '") + MARVIN_EXE +
+      "' web password --data-dir '" + data.string() + "'");
+  REQUIRE(marvin::test_support::exit_code(password.finish()) == 0);
+  // Quiet at the end, so the recording is still playing while the test uses the page.
+  Recording rec;
+  rec.silence(kAfterGreetingMs).say("marvin, what time is it").silence(6000);
+  marvin::audio::write_speech_file(dir / "web.wav", rec.audio);
+  marvin::test_support::ChildOptions options;
+  options.in = marvin::test_support::ChildStream::kNull;
+  marvin::test_support::ChildProcess host = marvin::test_support::ChildProcess::shell(
+      std::string("'") + MARVIN_EXE + "' run --sim --data-dir '" + data.string() +
+          "' --web-listen 127.0.0.1:0 --time-zone UTC --clock 2026-11-21T15:05 --audio-in '" +
+          (dir / "web.wav").string() + "'",
+      options);
+  const std::string line = host.wait_for_line_containing("[web page: https://127.0.0.1:");
+  const auto port = static_cast<std::uint16_t>(std::stoi(line.substr(line.rfind(':') + 1)));
+  CHECK(port != 0);  // the port it got, not the 0 asked for
+  // Logged in while Marvin listens: the page is the voice host's.
+  marvin::web::test::Browser page(port, data / "web/cert.pem");
+  REQUIRE(page.login("voice page password").status == 200);
+  const nlohmann::json status = page.send("GET", "/api/status").json();
+  CHECK(status["running"] == true);
+  CHECK(marvin::test_support::exit_code(host.finish()) == 0);
+  const std::vector<std::string> lines = host.output_lines();
+  CHECK(std::find(lines.begin(), lines.end(), "You: what time is it") != lines.end());
+  CHECK(std::find(lines.begin(), lines.end(), "Marvin: It's 3:05 PM.") != lines.end());
 }

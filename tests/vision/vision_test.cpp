@@ -166,6 +166,19 @@ TEST_CASE("enrol, identify, forget: a round trip through a real SQLite file") {
   const FaceMatch stranger = gallery.identify(face_at(later, kSample1Faces[2] * 0.5f).embedding);
   CHECK_FALSE(stranger.known);
 
+  // Renaming keeps the faces; a name someone else has, or none, is refused with nothing changed.
+  CHECK_THROWS_WITH(gallery.rename("Anna", "bob", "test"),
+                    "new name: Bob is already enrolled; forget or rename them first");
+  CHECK_THROWS_WITH(gallery.rename("Anna", "", "test"), "new name: empty; give the person's name");
+  CHECK_FALSE(gallery.rename("Carol", "Dora", "test"));
+  CHECK(gallery.find("Anna"));
+  REQUIRE(gallery.rename("anna", "Anna Schmidt", "test"));
+  CHECK_FALSE(gallery.find("Anna"));
+  CHECK(gallery.identify(face_at(later, kSample1Faces[0] * 0.5f).embedding).name ==
+        "Anna Schmidt");
+  CHECK(store.recent_events(1).front().message == "Anna is now called Anna Schmidt");
+  REQUIRE(gallery.rename("Anna Schmidt", "Anna", "test"));
+
   CHECK(gallery.forget("ANNA", "test"));
   CHECK_FALSE(gallery.forget("Anna", "test"));
   CHECK(store.face_embeddings().size() == 1);
@@ -399,6 +412,11 @@ TEST_CASE("marvin people enroll, list and forget through the real program and SQ
   const auto listed = run({"people", "list"});
   CHECK(contains(listed.second, "Anna  1 face embedding"));
   CHECK(contains(listed.second, "last added by cli at "));
+  const auto renamed = run({"people", "rename", "Anna", "Anna Schmidt"});
+  CHECK(renamed.first == 0);
+  CHECK(contains(renamed.second, "Anna is now called Anna Schmidt"));
+  CHECK(contains(run({"people", "list"}).second, "Anna Schmidt  1 face embedding"));
+  CHECK(run({"people", "rename", "Anna Schmidt", "Anna"}).first == 0);
   CHECK(run({"people", "forget", "Anna"}).first == 0);
   CHECK_FALSE(contains(run({"people", "list"}).second, "Anna"));
   const auto again = run({"people", "forget", "Anna"});

@@ -17,6 +17,7 @@
 #include "web/tls.h"
 #include "web/web_server.h"
 #include "web_client.h"
+#include "web_site.h"
 
 namespace marvin::web {
 namespace {
@@ -25,78 +26,10 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using test::Browser;
 using test::Reply;
+using test::base64;
+using test::kPassword;
+using test::Site;
 using test_support::TempDir;
-
-constexpr const char* kPassword = "correct horse battery";
-
-std::string base64(const std::string& bytes) {
-  std::string out(sodium_base64_encoded_len(bytes.size(), sodium_base64_VARIANT_ORIGINAL), '\0');
-  sodium_bin2base64(out.data(), out.size(), reinterpret_cast<const unsigned char*>(bytes.data()),
-                    bytes.size(), sodium_base64_VARIANT_ORIGINAL);
-  out.resize(std::strlen(out.c_str()));
-  return out;
-}
-
-// A server on a fresh data folder, a skills folder trusting `key`, and a clock the test
-// moves forward.
-struct Site {
-  TempDir tmp;
-  data::SqliteStore store{[this] {
-    data::StoreOptions o;
-    o.path = tmp / "data/marvin.db";
-    return o;
-  }()};
-  LiveFeed feed;
-  store::SecretKey key = store::generate_secret_key();
-  std::atomic<std::int64_t> advanced_s{0};
-  std::unique_ptr<WebServer> server;
-
-  explicit Site(std::size_t upload_limit = 1024 * 1024,
-                const std::function<void(WebOptions&)>& adjust = {}) {
-    set_password(password_file(tmp / "data/web"), kPassword, HashCost::kMinimum);
-    // The skills folder trusts `key`, as after `marvin skill repo-add`.
-    test_support::write_text(
-        tmp / "skills/.store/repositories.json",
-        json{{"home", {{"path", "/nowhere"}, {"keys", {key.public_key().base64()}}}}}.dump());
-    // A skills folder in use (its lock files made), so a refusal must leave it byte for byte.
-    store::Installer(tmp / "skills").recover();
-    WebOptions o;
-    o.listen = "127.0.0.1:0";
-    o.state_dir = tmp / "data/web";
-    o.static_dir = fs::path(MARVIN_WEB_TEST_STATIC_DIR);
-    o.skills_dir = tmp / "skills";
-    o.validate_skill = app::validate_skill_for_host;
-    o.trusted_keys = [dir = o.skills_dir] { return app::repository_keys(dir); };
-    o.time_zone = "Europe/Berlin";
-    o.upload_limit = upload_limit;
-    o.session_ttl = std::chrono::minutes(30);
-    o.event_poll = std::chrono::milliseconds(20);
-    o.now = [this] { return Clock::time_point(std::chrono::seconds(1000000 + advanced_s.load())); };
-    if (adjust) adjust(o);
-    server = std::make_unique<WebServer>(o, store, store, &feed);
-    server->start();
-  }
-  Browser browser() { return Browser(server->port(), tmp / "data/web/cert.pem"); }
-  Browser logged_in() {
-    Browser b = browser();
-    REQUIRE(b.login(kPassword).status == 200);
-    return b;
-  }
-  // A signed package of a Lua skill, as `marvin skill pack --sign` makes it.
-  fs::path package(const std::string& id, const std::string& version,
-                   const std::string& permissions = "[]") {
-    const fs::path src =
-        app::test::lua_skill(tmp / "src", id, version, "Hi", "", R"({"min": "1.0"})", permissions);
-    return test_support::pack_signed(src, tmp / "packages", key);
-  }
-  Reply upload(Browser& b, const fs::path& package, const std::string& name, bool approve = true) {
-    return b.send(
-        "POST", "/api/skills/install?file=" + name + (approve ? "&approve=1" : ""),
-        test_support::read_text(package),
-        {{"X-Marvin-Signature", base64(test_support::read_text(package.string() + ".minisig"))},
-         {"Content-Type", "application/octet-stream"}});
-  }
-};
 
 const std::string kReminder =
     json{{"title", "take my pills"}, {"at", "2031-03-04T08:30"}, {"repeat", "daily"}}.dump();
@@ -166,6 +99,9 @@ TEST_CASE("web: reminders added, edited and deleted on the page are the CLI's re
           {"title", "take the blue pill"}, {"at", "2031-03-04T09:00"}, {"repeat", "weekly:mon,thu"}}
           .dump());
   REQUIRE(edited.status == 200);
+  // The edit form starts from what is stored, in the form's own words.
+  CHECK(edited.json()["repeat_spec"] == "weekly:mon,thu");
+  CHECK(edited.json()["window"] == "");
   stored = site.store.list_reminders();
   REQUIRE(stored.size() == 1);
   CHECK(stored[0].title == "take the blue pill");
@@ -431,6 +367,29 @@ TEST_CASE("web: an open page gets the status, conversation turns and new events 
   CHECK(event.first == "event");
   CHECK(json::parse(event.second)["message"] == "someone in the hall");
   CHECK(json::parse(event.second)["kind"] == "intruder_alert");
+  // A reminder the scheduler retires as missed is an event written in its own transaction:
+  // it comes the same way, with nothing polling the log.
+  data::Reminder once;
+  once.title = "water the plants";
+  once.time_zone = "Europe/Berlin";
+  once.first_fire_utc_ms = data::local_to_utc_ms("2031-01-01T08:00", once.time_zone);
+  once.created_by = "user";
+  const auto once_id = site.store.add_reminder(once);
+  REQUIRE(site.store.advance_reminder(once_id, once.first_fire_utc_ms, once.first_fire_utc_ms,
+                                      std::nullopt, "reminder_missed", "water the plants"));
+  auto missed = live->next_event();
+  CHECK(missed.first == "event");
+  CHECK(json::parse(missed.second)["kind"] == "reminder_missed");
+  // Another writer on the same file (as `marvin people forget` in a shell, another process):
+  // the server sees the database's journal change and reads the new event.
+  {
+    data::StoreOptions other;
+    other.path = site.store.path();
+    data::SqliteStore(other).log_event("face_forgotten", "cli", "Bob: 1 face embedding(s) removed");
+  }
+  auto from_other = live->next_event();
+  CHECK(from_other.first == "event");
+  CHECK(json::parse(from_other.second)["source"] == "cli");
   // A change made on another page tells this one.
   REQUIRE(b.send("POST", "/api/reminders", kReminder).status == 201);
   auto changed = live->next_event();
@@ -441,7 +400,7 @@ TEST_CASE("web: an open page gets the status, conversation turns and new events 
   json today = b.send("GET", "/api/status").json();
   CHECK(today["live"]["light"] == "executing");
   CHECK(today["next_reminders"].size() == 1);
-  CHECK(today["recent_events"][0]["message"] == "someone in the hall");
+  CHECK(today["recent_events"][2]["message"] == "someone in the hall");
 }
 
 TEST_CASE("web: a password shorter than 8 characters is refused and nothing is stored") {

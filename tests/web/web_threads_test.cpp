@@ -28,7 +28,6 @@ TEST_CASE("web threads: lines from four threads and events from a fifth reach th
   WebOptions o;
   o.listen = "127.0.0.1:0";
   o.state_dir = tmp / "data/web";
-  o.event_poll = std::chrono::milliseconds(10);
   WebServer server(o, store, store, &feed);
   server.start();
   test::Browser b(server.port(), tmp / "data/web/cert.pem");

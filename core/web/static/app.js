@@ -116,6 +116,15 @@ async function loadReminders() {
       $('reminder-id').value = r.id;
       $('reminder-title').value = r.title;
       $('reminder-at').value = r.next.replace(' ', 'T');
+      const repeat = $('reminder-repeat');
+      if (![...repeat.options].some((o) => o.value === r.repeat_spec)) {
+        const option = document.createElement('option');
+        option.value = r.repeat_spec;
+        option.textContent = r.repeat;
+        repeat.appendChild(option);
+      }
+      repeat.value = r.repeat_spec;
+      $('reminder-window').value = r.window;
       $('reminder-save').textContent = 'Save reminder';
       $('reminder-cancel').classList.remove('hidden');
       $('reminder-title').focus();
@@ -248,9 +257,168 @@ async function loadEvents() {
   for (const e of await api('GET', '/api/events?limit=100')) body.appendChild(eventRow(e));
 }
 
+// --- people --------------------------------------------------------------------------
+function resetPersonForm() {
+  $('person-form').reset();
+  $('person-id').value = '';
+  $('person-form').classList.add('hidden');
+}
+
+async function loadPeople() {
+  const body = $('people');
+  body.replaceChildren();
+  const people = await api('GET', '/api/people');
+  for (const p of people) {
+    const row = document.createElement('tr');
+    cell(row, p.name);
+    cell(row, String(p.faces));
+    cell(row, p.enrolled ? p.enrolled + ' (' + p.enrolled_by + ')' : '');
+    const actions = cell(row, '');
+    button(actions, 'Rename', () => {
+      $('person-id').value = p.id;
+      $('person-old').textContent = p.name;
+      $('person-name').value = p.name;
+      $('person-form').classList.remove('hidden');
+      $('person-name').focus();
+    }, true).setAttribute('aria-label', 'Rename ' + p.name);
+    button(actions, 'Forget', () => guarded(async () => {
+      if (!window.confirm('Forget ' + p.name + ' and their faces?')) return;
+      await api('DELETE', '/api/people/' + p.id);
+      await loadPeople();
+    }, 'Forgot ' + p.name + '.'), true).setAttribute('aria-label', 'Forget ' + p.name);
+    body.appendChild(row);
+  }
+  if (!people.length) cell(body.appendChild(document.createElement('tr')), 'Nobody yet.');
+}
+
+$('enrol-form').addEventListener('submit', (event) => {
+  event.preventDefault();
+  guarded(async () => {
+    const name = $('enrol-name').value;
+    let result;
+    // One photo per request: a refused photo names itself, the ones before it stay learnt.
+    for (const photo of $('enrol-photos').files) {
+      result = await api('POST', '/api/people/enroll?name=' + encodeURIComponent(name) +
+                         '&file=' + encodeURIComponent(photo.name), photo,
+                         {'Content-Type': 'application/octet-stream'});
+    }
+    $('enrol-form').reset();
+    await loadPeople();
+    say('Marvin knows ' + result.name + ' from ' + result.faces + ' photo' +
+        (result.faces === 1 ? '' : 's') + '.');
+  });
+});
+
+$('person-cancel').addEventListener('click', resetPersonForm);
+$('person-form').addEventListener('submit', (event) => {
+  event.preventDefault();
+  guarded(async () => {
+    await api('PUT', '/api/people/' + $('person-id').value, {name: $('person-name').value});
+    resetPersonForm();
+    await loadPeople();
+  }, 'Renamed.');
+});
+
+// --- devices -------------------------------------------------------------------------
+function deviceState(d) {
+  if (!d.available) return 'offline';
+  if (d.on === null) return 'unknown';
+  return (d.on ? 'on' : 'off') + (d.on && d.brightness !== null ? ' ' + d.brightness + '%' : '');
+}
+
+async function loadDevices() {
+  const home = await api('GET', '/api/devices');
+  $('devices-state').textContent = !home.configured ? 'Marvin has no smart home here.'
+      : home.connected ? 'Connected to the home\'s devices.'
+      : 'The home\'s broker cannot be reached; the states may be old.';
+  const body = $('devices');
+  body.replaceChildren();
+  for (const d of home.devices) {
+    const row = document.createElement('tr');
+    cell(row, d.name);
+    cell(row, d.room);
+    cell(row, deviceState(d));
+    const actions = cell(row, '');
+    for (const on of [true, false]) {
+      const label = on ? 'Switch on' : 'Switch off';
+      button(actions, label, () => guarded(async () => {
+        say('Switching the ' + d.name + (on ? ' on' : ' off') + '…');
+        await api('POST', '/api/devices/' + encodeURIComponent(d.id), {on});
+        await loadDevices();
+      }, 'The ' + d.name + ' is ' + (on ? 'on' : 'off') + '.'), !on)
+          .setAttribute('aria-label', label + ' ' + d.name);
+    }
+    body.appendChild(row);
+  }
+}
+
+// --- the home map --------------------------------------------------------------------
+const SVG = 'http://www.w3.org/2000/svg';
+function shape(parent, name, attributes, text) {
+  const e = document.createElementNS(SVG, name);
+  for (const [k, v] of Object.entries(attributes)) e.setAttribute(k, v);
+  if (text !== undefined) e.textContent = text;
+  parent.appendChild(e);
+  return e;
+}
+
+async function loadHome() {
+  const h = await api('GET', '/api/home');
+  const where = h.robot ? (h.robot.room ? 'Marvin is in the ' + h.robot.room + '.'
+                                        : 'Marvin is between rooms.')
+                        : 'Where Marvin is is not known here.';
+  $('robot-where').textContent = where;
+  const svg = $('home-map');
+  const title = $('home-map-title');
+  svg.replaceChildren(title);
+  svg.classList.toggle('hidden', !h.map);
+  const rooms = $('home-rooms');
+  rooms.replaceChildren();
+  if (h.map) {
+    const [[x0, y0], [x1, y1]] = h.map.bounds;
+    const m = 0.3;
+    svg.setAttribute('viewBox', [x0 - m, -(y1 + m), x1 - x0 + 2 * m, y1 - y0 + 2 * m].join(' '));
+    const pt = (p) => p[0] + ',' + (-p[1]);  // the world's y grows up, the picture's down
+    for (const r of h.map.rooms) shape(svg, 'polygon', {class: 'room', points: r.outline.map(pt).join(' ')});
+    for (const f of h.map.furniture) {
+      shape(svg, 'rect', {class: 'furniture', x: f.min[0], y: -f.max[1],
+                          width: f.max[0] - f.min[0], height: f.max[1] - f.min[1]});
+    }
+    for (const w of h.map.walls) {
+      shape(svg, 'line', {class: 'wall', x1: w[0][0], y1: -w[0][1], x2: w[1][0], y2: -w[1][1]});
+    }
+    for (const r of h.map.rooms) {
+      shape(svg, 'text', {class: 'label', x: r.spot[0], y: -r.spot[1], 'text-anchor': 'middle'}, r.name);
+      const places = h.map.places.filter((p) => p.room === r.name).map((p) => p.name);
+      item(rooms, r.name + (places.length ? ': ' + places.join(', ') : ''));
+    }
+    if (h.robot) {
+      const [x, y] = h.robot.at;
+      const a = h.robot.heading_deg * Math.PI / 180;
+      shape(svg, 'circle', {class: 'robot', cx: x, cy: -y, r: 0.18});
+      shape(svg, 'line', {class: 'wall', x1: x, y1: -y,
+                          x2: x + 0.3 * Math.cos(a), y2: -(y + 0.3 * Math.sin(a))});
+      title.textContent = 'Floor plan of the home. ' + where;
+    }
+  } else {
+    item(rooms, 'No floor plan here: Marvin runs without a world file.');
+  }
+  const body = $('sightings');
+  body.replaceChildren();
+  for (const s of h.sightings) {
+    const row = document.createElement('tr');
+    cell(row, s.what);
+    cell(row, [s.room, s.near ? 'near the ' + s.near : ''].filter(Boolean).join(', ') || 'unknown');
+    cell(row, s.seen);
+    body.appendChild(row);
+  }
+  if (!h.sightings.length) cell(body.appendChild(document.createElement('tr')), 'Nothing seen yet.');
+}
+
 // --- pages and live updates ----------------------------------------------------------
 const pages = {today: loadToday, reminders: loadReminders, contacts: loadContacts,
-               skills: loadSkills, events: loadEvents};
+               skills: loadSkills, events: loadEvents, people: loadPeople,
+               devices: loadDevices, home: loadHome};
 
 function currentPage() {
   const name = window.location.hash.slice(1);
@@ -273,7 +441,11 @@ function startLive() {
     const s = JSON.parse(m.data);
     showStatus(s);
   });
-  live.addEventListener('status', (m) => showStatus(JSON.parse(m.data)));
+  live.addEventListener('status', (m) => {
+    showStatus(JSON.parse(m.data));
+    // The robot moved or turned: the map shows where it is now.
+    if (currentPage() === 'home') guarded(loadHome);
+  });
   live.addEventListener('turn', (m) => addTurn(JSON.parse(m.data)));
   live.addEventListener('event', (m) => {
     const e = JSON.parse(m.data);
@@ -282,6 +454,8 @@ function startLive() {
     const li = document.createElement('li');
     li.textContent = eventText(e);
     today.prepend(li);
+    // A face learnt or forgotten by voice or on the robot shows on the people page.
+    if (e.kind.startsWith('face_') && currentPage() === 'people') guarded(loadPeople);
   });
   live.addEventListener('changed', (m) => {
     const what = JSON.parse(m.data).what;

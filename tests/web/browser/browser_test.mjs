@@ -1,9 +1,10 @@
 // The carer's web page in a real browser: Debian's chromium, headless, driven by
 // puppeteer-core, against `marvin run --sim` serving its page on an ephemeral port.
-// Logs in, adds a reminder and finds it in `marvin schedule list`, installs a signed skill
-// package, sees the skill's error event appear live, logs out.
+// Logs in, adds a reminder and finds it in `marvin schedule list`, edits it, sees the home
+// map with the robot on it, installs a signed skill package, sees the skill's error event
+// appear live, logs out.
 //
-// Usage: node browser_test.mjs MARVIN_EXE PUPPETEER_DIR
+// Usage: node browser_test.mjs MARVIN_EXE PUPPETEER_DIR GROUP_PHOTO (a photo of several people)
 // Exit 0: passed; 77: skipped (no chromium or no puppeteer-core, named on stderr); 1: failed.
 import {spawn, execFileSync} from 'node:child_process';
 import {createRequire} from 'node:module';
@@ -11,7 +12,7 @@ import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 
-const [marvin, puppeteerDir] = process.argv.slice(2);
+const [marvin, puppeteerDir, groupPhoto] = process.argv.slice(2);
 const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
 if (!fs.existsSync(chromium)) {
   console.error(`skipped: no chromium at ${chromium} (apt-get install chromium)`);
@@ -125,6 +126,34 @@ async function main() {
   await page.waitForFunction(() => document.getElementById('reminders').textContent.includes('water the plants'));
   const listed = run(['schedule', 'list', '--data-dir', dataDir]);
   check(/2031-05-06 07:30\s+daily\s+water the plants/.test(listed), '`marvin schedule list` shows the reminder: ' + listed.trim());
+
+  // Edited on the page: the form starts from what is stored (its repeat too).
+  await page.click('button[aria-label="Edit reminder water the plants"]');
+  check(await page.$eval('#reminder-repeat', (e) => e.value) === 'daily', 'the edit form starts with the stored repeat');
+  await page.$eval('#reminder-title', (e) => { e.value = ''; });
+  await page.type('#reminder-title', 'water the orchids');
+  await page.click('#reminder-save');
+  await page.waitForFunction(() => document.getElementById('reminders').textContent.includes('water the orchids'));
+  const edited = run(['schedule', 'list', '--data-dir', dataDir]);
+  check(/2031-05-06 07:30\s+daily\s+water the orchids/.test(edited) && !edited.includes('water the plants'),
+        '`marvin schedule list` shows the edited reminder only: ' + edited.trim());
+
+  // The home: the simulated world's floor plan with the robot in its room.
+  await page.goto(url + '#home');
+  await page.waitForFunction(() => document.getElementById('robot-where').textContent.startsWith('Marvin is in the'));
+  const where = await page.$eval('#robot-where', (e) => e.textContent);
+  const rooms = await page.$$eval('#home-map polygon.room', (es) => es.length);
+  check(rooms > 0 && await page.$('#home-map circle.robot') !== null,
+        'the home page draws ' + rooms + ' rooms and the robot: "' + where + '"');
+
+  // People: a group photo is refused with the CLI's rule, named on the page.
+  await page.goto(url + '#people');
+  await page.type('#enrol-name', 'Bob');
+  await (await page.$('#enrol-photos')).uploadFile(groupPhoto);
+  await page.click('#enrol-save');
+  await page.waitForFunction(() => document.getElementById('message').textContent.includes('faces; give photos of Bob alone'));
+  check(run(['people', 'list', '--data-dir', dataDir]).trim() === '',
+        'a group photo uploaded on the People page is refused: "' + await page.$eval('#message', (e) => e.textContent) + '"');
 
   // A contact named with markup is shown as text.
   await page.goto(url + '#contacts');

@@ -1,0 +1,259 @@
+// The people, devices and home pages' API against the real parts behind them: the face
+// gallery in the SQLite file (as `marvin people` uses it), the smart home through a real
+// mosquitto and the simulated home's devices (marvin-home-sim) with the host's HomeLink (as
+// voice commands use it), and the example world's floor plan. Refusals name the field and
+// change nothing.
+#include <doctest/doctest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "app/home_link.h"
+#include "home_fixture.h"
+#include "sim/world.h"
+#include "vision/face_embedder.h"
+#include "vision/face_gallery.h"
+#include "web_client.h"
+#include "web_site.h"
+
+namespace marvin::web {
+namespace {
+
+using nlohmann::json;
+using test::Browser;
+using test::Reply;
+using test::Site;
+
+std::vector<float> face(float value) {
+  return std::vector<float>(static_cast<std::size_t>(vision::kEmbeddingSize), value);
+}
+
+TEST_CASE("web: people are listed, renamed and forgotten through the face gallery") {
+  Site site;
+  vision::FaceGallery gallery(site.store);
+  const std::int64_t anna = gallery.enroll("Anna", {face(0.1f), face(0.2f)}, "cli");
+  const std::string markup = "<img src=x onerror=alert(1)>";
+  gallery.enroll(markup, {face(0.9f)}, "voice:owner");
+  Browser b = site.logged_in();
+
+  Reply listed = b.send("GET", "/api/people");
+  REQUIRE(listed.status == 200);
+  REQUIRE(listed.json().size() == 2);
+  CHECK(listed.json()[0]["name"] == markup);  // as data; the page shows it with textContent
+  CHECK(listed.json()[1]["name"] == "Anna");
+  CHECK(listed.json()[1]["faces"] == 2);
+  CHECK(listed.json()[1]["enrolled_by"] == "cli");
+
+  auto live = b.open_live();
+  REQUIRE(live->next_event().first == "hello");
+  const std::string path = "/api/people/" + std::to_string(anna);
+  Reply renamed = b.send("PUT", path, json{{"name", "Anna Schmidt"}}.dump());
+  REQUIRE(renamed.status == 200);
+  CHECK(gallery.find("Anna Schmidt")->id == anna);
+  CHECK(site.store.face_embeddings(anna).size() == 2);  // the faces stay
+  // Open pages are told to reload people, and get the gallery's event (saying who did it).
+  CHECK(live->next_event() ==
+        std::pair<std::string, std::string>{"changed", R"({"what":"people"})"});
+  auto event = live->next_event();
+  CHECK(event.first == "event");
+  CHECK(json::parse(event.second)["kind"] == "face_renamed");
+  CHECK(json::parse(event.second)["source"] == "web");
+  CHECK(json::parse(event.second)["message"] == "Anna is now called Anna Schmidt");
+
+  // Refusals name the field; nobody is renamed.
+  Reply taken = b.send("PUT", path, json{{"name", markup}}.dump());
+  CHECK(taken.status == 400);
+  CHECK(taken.error() ==
+        "field 'name': " + markup + " is already enrolled; forget or rename them first");
+  Reply empty = b.send("PUT", path, json{{"name", ""}}.dump());
+  CHECK(empty.status == 400);
+  CHECK(empty.error() == "field 'name': empty; give the person's name");
+  Reply number = b.send("PUT", path, json{{"name", 7}}.dump());
+  CHECK(number.status == 400);
+  CHECK(number.error() == "field 'name': expected the person's new name as a string");
+  Reply nobody = b.send("PUT", "/api/people/999", json{{"name", "Bob"}}.dump());
+  CHECK(nobody.status == 404);
+  CHECK(nobody.error() == "no person with id 999 is enrolled");
+  b.no_csrf = true;
+  Reply no_csrf = b.send("DELETE", path);
+  b.no_csrf = false;
+  CHECK(no_csrf.status == 403);
+  REQUIRE(site.store.list_people().size() == 2);
+  CHECK(gallery.find("Anna Schmidt"));
+
+  Reply forgotten = b.send("DELETE", path);
+  REQUIRE(forgotten.status == 200);
+  CHECK(forgotten.json()["name"] == "Anna Schmidt");
+  CHECK_FALSE(gallery.find("Anna Schmidt"));
+  CHECK(site.store.face_embeddings(anna).empty());
+  CHECK(site.store.recent_events(1).front().kind == "face_forgotten");
+  CHECK(b.send("DELETE", path).status == 404);
+  CHECK(site.store.list_people().size() == 1);
+}
+
+TEST_CASE("web: a face is learnt from an uploaded photo, with the CLI's rule of one face") {
+  const std::filesystem::path sample = MARVIN_WEB_TEST_PHOTO;
+  REQUIRE_MESSAGE(std::filesystem::exists(sample), sample.string()
+                                                       << " is missing: run scripts/setup");
+  const cv::Mat group = cv::imread(sample.string());
+  std::vector<unsigned char> alone, everyone;
+  // Anna alone (the crop `marvin people enroll` is tested with), and the whole group.
+  cv::imencode(".png", group(cv::Rect(250, 250, 550, 550)), alone);
+  cv::imencode(".jpg", group, everyone);
+  Site site;
+  Browser b = site.logged_in();
+  auto upload = [&](const std::string& query, const std::vector<unsigned char>& bytes) {
+    return b.send("POST", "/api/people/enroll?" + query, std::string(bytes.begin(), bytes.end()),
+                  {{"Content-Type", "application/octet-stream"}});
+  };
+
+  // Refused: nothing is stored.
+  Reply several = upload("name=Bob&file=party.jpg", everyone);
+  CHECK(several.status == 422);
+  CHECK(several.error().rfind("photo party.jpg: ", 0) == 0);
+  CHECK(several.error().find(" faces; give photos of Bob alone; nothing was enrolled") !=
+        std::string::npos);
+  Reply garbage = upload("name=Bob&file=x.jpg", {'n', 'o', 't', ' ', 'a', 'n', ' ', 'i'});
+  CHECK(garbage.status == 400);
+  CHECK(garbage.error() == "photo: not a JPEG or PNG image");
+  Reply nameless = upload("file=anna.png", alone);
+  CHECK(nameless.status == 400);
+  CHECK(nameless.error() ==
+        "name: missing; send /api/people/enroll?name=NAME with a photo of them");
+  CHECK(site.store.list_people().empty());
+  CHECK(site.store.face_embeddings().empty());
+
+  Reply learnt = upload("name=Anna&file=anna.png", alone);
+  REQUIRE(learnt.status == 201);
+  CHECK(learnt.json()["name"] == "Anna");
+  CHECK(learnt.json()["faces"] == 1);
+  REQUIRE(upload("name=anna&file=anna2.png", alone).json()["faces"] == 2);  // same person
+  const json people = b.send("GET", "/api/people").json();
+  REQUIRE(people.size() == 1);
+  CHECK(people[0]["enrolled_by"] == "web");
+  // The face is the one the robot's camera would recognise.
+  vision::FaceGallery gallery(site.store);
+  CHECK(gallery.list().front().embeddings == 2);
+}
+
+TEST_CASE("web: the home map is the world's floor plan, the robot on it and what was seen") {
+  const sim::World world = sim::load_world(MARVIN_HOME_WORLD);
+  navigation::Pose pose = world.robot.start;
+  std::mutex pose_mutex;
+  Site site(1024 * 1024, [&](WebOptions& o) {
+    o.floor_map = &world.map;
+    o.robot_pose = [&]() -> std::optional<navigation::Pose> {
+      std::lock_guard lock(pose_mutex);
+      return pose;
+    };
+  });
+  site.store.record_sighting({"keys", "object", "kitchen", "kitchen table", 0});
+  Browser b = site.logged_in();
+  json home = b.send("GET", "/api/home").json();
+  REQUIRE(home["map"].is_object());
+  CHECK(home["map"]["rooms"].size() == world.map.rooms.size());
+  CHECK(home["map"]["walls"].size() == world.map.walls.size());
+  CHECK(home["map"]["rooms"][0]["name"] == world.map.rooms[0].name);
+  const navigation::Room* start_room = world.map.room_at(world.robot.start.position());
+  REQUIRE(start_room);
+  CHECK(home["robot"]["room"] == start_room->name);
+  REQUIRE(home["sightings"].size() == 1);
+  CHECK(home["sightings"][0]["what"] == "keys");
+  CHECK(home["sightings"][0]["near"] == "kitchen table");
+
+  // The robot drove to the kitchen: the map says so at the next look.
+  {
+    std::lock_guard lock(pose_mutex);
+    pose = {8.0, 3.0, 0};
+  }
+  home = b.send("GET", "/api/home").json();
+  CHECK(home["robot"]["room"] == "kitchen");
+  CHECK(home["robot"]["at"] == json::array({8.0, 3.0}));
+}
+
+TEST_CASE("web: without a robot the home and devices pages say so, and switching is refused") {
+  Site site;
+  Browser b = site.logged_in();
+  json home = b.send("GET", "/api/home").json();
+  CHECK(home["map"].is_null());
+  CHECK(home["robot"].is_null());
+  json devices = b.send("GET", "/api/devices").json();
+  CHECK(devices["configured"] == false);
+  CHECK(devices["devices"].empty());
+  Reply set = b.send("POST", "/api/devices/lamp", json{{"on", true}}.dump());
+  CHECK(set.status == 503);
+  CHECK(set.error().rfind("no smart home here", 0) == 0);
+}
+
+TEST_CASE("web: devices are listed and switched through the home's broker, as by voice") {
+  using namespace home::testing;
+  MosquittoBroker broker;
+  ChildProcess sim = start_sim(broker);
+  home::HomeService service(config_for(broker));
+  service.start();
+  REQUIRE(service.wait_connected(kWait));
+  REQUIRE(service.wait_devices(
+      [](const std::vector<home::Device>& ds) {
+        for (const home::Device& d : ds)
+          if (d.name == "living room lamp" && d.state.on.has_value()) return true;
+        return false;
+      },
+      kWait));
+  app::HomeLink link(service);
+  Site site(1024 * 1024, [&](WebOptions& o) { o.smart_home = &link; });
+  Browser b = site.logged_in();
+
+  json listed = b.send("GET", "/api/devices").json();
+  CHECK(listed["configured"] == true);
+  CHECK(listed["connected"] == true);
+  json lamp;
+  for (const json& d : listed["devices"])
+    if (d["name"] == "living room lamp") lamp = d;
+  REQUIRE(lamp.is_object());
+  CHECK(lamp["room"] == "living room");
+  CHECK(lamp["on"] == false);
+  // The id as the page sends it (encodeURIComponent): "z2m:living room/living room lamp".
+  std::string encoded;
+  for (const char c : lamp["id"].get<std::string>()) {
+    if (c == ' ')
+      encoded += "%20";
+    else if (c == '/')
+      encoded += "%2F";
+    else
+      encoded += c;
+  }
+  const std::string path = "/api/devices/" + encoded;
+
+  // Bad input names the field; the lamp is not touched.
+  Reply not_bool = b.send("POST", path, json{{"on", "yes"}}.dump());
+  CHECK(not_bool.status == 400);
+  CHECK(not_bool.error() == "field 'on': expected true or false");
+  Reply too_bright = b.send("POST", path, json{{"on", true}, {"brightness", 150}}.dump());
+  CHECK(too_bright.status == 400);
+  CHECK(too_bright.error() == "field 'brightness': expected a whole number 0..100 (percent)");
+  Reply nothing = b.send("POST", path, "{}");
+  CHECK(nothing.status == 400);
+  CHECK(nothing.error() == "field 'on': missing (or give 'brightness')");
+  Reply unknown = b.send("POST", "/api/devices/the%20moon", json{{"on", true}}.dump());
+  CHECK(unknown.status == 404);
+  CHECK(unknown.error() == "there is no device \"the moon\"");
+  Reply fan_dim = b.send("POST", "/api/devices/bedroom%20fan", json{{"brightness", 20}}.dump());
+  CHECK(fan_dim.status == 400);
+  CHECK(fan_dim.error() == "the bedroom fan cannot be dimmed");
+  for (const home::Device& d : service.devices())
+    if (d.name == "living room lamp") CHECK(d.state.on == false);
+
+  // Switched on: the answer is the state the lamp reported back.
+  Reply on = b.send("POST", path, json{{"on", true}}.dump());
+  REQUIRE(on.status == 200);
+  CHECK(on.json()["on"] == true);
+  const json after = b.send("GET", "/api/devices").json();
+  for (const json& d : after["devices"])
+    if (d["name"] == "living room lamp") CHECK(d["on"] == true);
+  Reply off = b.send("POST", path, json{{"on", false}}.dump());
+  REQUIRE(off.status == 200);
+  CHECK(off.json()["on"] == false);
+  service.stop();
+}
+
+}  // namespace
+}  // namespace marvin::web
