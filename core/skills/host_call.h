@@ -19,19 +19,18 @@ namespace marvin::skills::host_call {
 // (EyesUnavailable, thrown from anywhere in the call) is
 // MARVIN_ERR_UNAVAILABLE, not an internal error: a skill tells the user "my
 // camera stopped working", it does not report a bug.
-template <class F> marvin_status guarded(marvin_host *host, F &&body) {
-  if (!host)
-    return MARVIN_ERR_INVALID;
-  SkillContext &c = SkillContext::from(host);
+template <class F>
+marvin_status guarded(marvin_host* host, F&& body) {
+  if (!host) return MARVIN_ERR_INVALID;
+  SkillContext& c = SkillContext::from(host);
   c.last_error.clear();
-  c.kept_answer()
-      .count_call(); // a retry must follow its call at once (kept_answer.h)
+  c.kept_answer().count_call();  // a retry must follow its call at once (kept_answer.h)
   try {
     return body(c);
-  } catch (const EyesUnavailable &e) {
+  } catch (const EyesUnavailable& e) {
     c.last_error = e.what();
     return MARVIN_ERR_UNAVAILABLE;
-  } catch (const std::exception &e) {
+  } catch (const std::exception& e) {
     c.last_error = e.what();
     return MARVIN_ERR_INTERNAL;
   } catch (...) {
@@ -40,58 +39,47 @@ template <class F> marvin_status guarded(marvin_host *host, F &&body) {
   }
 }
 
-inline marvin_status fail(SkillContext &c, marvin_status status,
-                          std::string sentence) {
+inline marvin_status fail(SkillContext& c, marvin_status status, std::string sentence) {
   c.last_error = std::move(sentence);
   return status;
 }
 
-inline marvin_status need(SkillContext &c, const char *permission) {
-  if (c.has_permission(permission))
-    return MARVIN_OK;
+inline marvin_status need(SkillContext& c, const char* permission) {
+  if (c.has_permission(permission)) return MARVIN_OK;
   return fail(c, MARVIN_ERR_PERMISSION,
-              std::string("permission '") + permission +
-                  "' is not granted to skill '" + c.skill_id() + "'");
+              std::string("permission '") + permission + "' is not granted to skill '" +
+                  c.skill_id() + "'");
 }
 
 // Several permissions at once; the first one missing is named.
-inline marvin_status need(SkillContext &c,
-                          std::initializer_list<const char *> permissions) {
-  for (const char *p : permissions) {
-    if (marvin_status s = need(c, p); s != MARVIN_OK)
-      return s;
+inline marvin_status need(SkillContext& c, std::initializer_list<const char*> permissions) {
+  for (const char* p : permissions) {
+    if (marvin_status s = need(c, p); s != MARVIN_OK) return s;
   }
   return MARVIN_OK;
 }
 
-inline marvin_status need_text(SkillContext &c, const char *text,
-                               const char *what) {
-  if (text)
-    return MARVIN_OK;
+inline marvin_status need_text(SkillContext& c, const char* text, const char* what) {
+  if (text) return MARVIN_OK;
   return fail(c, MARVIN_ERR_INVALID, std::string(what) + " is NULL");
 }
 
-inline marvin_status need_out(SkillContext &c, marvin_text_out *out) {
-  if (out)
-    return MARVIN_OK;
+inline marvin_status need_out(SkillContext& c, marvin_text_out* out) {
+  if (out) return MARVIN_OK;
   return fail(c, MARVIN_ERR_INVALID, "the output buffer is NULL");
 }
 
 // `service` is a pointer or anything testable as a bool (a std::function).
 template <class Service>
-marvin_status need_service(SkillContext &c, const Service &service,
-                           const char *what) {
-  if (service)
-    return MARVIN_OK;
-  return fail(c, MARVIN_ERR_UNAVAILABLE,
-              std::string("this robot has no ") + what);
+marvin_status need_service(SkillContext& c, const Service& service, const char* what) {
+  if (service) return MARVIN_OK;
+  return fail(c, MARVIN_ERR_UNAVAILABLE, std::string("this robot has no ") + what);
 }
 
-} // namespace marvin::skills::host_call
+}  // namespace marvin::skills::host_call
 
 // Returns the status of `expr` from the enclosing call unless it is MARVIN_OK.
-#define MARVIN_TRY(expr)                                                       \
-  do {                                                                         \
-    if (marvin_status s_ = (expr); s_ != MARVIN_OK)                            \
-      return s_;                                                               \
+#define MARVIN_TRY(expr)                                       \
+  do {                                                         \
+    if (marvin_status s_ = (expr); s_ != MARVIN_OK) return s_; \
   } while (0)

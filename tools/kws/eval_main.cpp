@@ -187,6 +187,26 @@ struct Trace {
   std::vector<std::int64_t> end_frames;
 };
 
+// Every window's keyword posterior of the int8 CNN spotter over `pcm`, streamed in 100 ms
+// chunks as the microphone delivers them.
+Trace cnn_trace(const kws::KwsModel& model, const std::vector<std::int16_t>& pcm) {
+  kws::NeuralWakeWord detector(model, 0.5f, kws::Precision::int8);
+  Trace trace;
+  detector.spotter().set_window_observer(
+      [](void* ctx, std::int64_t end_frame, float posterior, float) {
+        auto* t = static_cast<Trace*>(ctx);
+        t->posteriors.push_back(posterior);
+        t->end_frames.push_back(end_frame);
+      },
+      &trace);
+  std::vector<perception::WakeWordDetection> ignored;
+  const std::span<const std::int16_t> all(pcm);
+  for (std::size_t i = 0; i < pcm.size(); i += 1600) {
+    detector.process(all.subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), ignored);
+  }
+  return trace;
+}
+
 // Sample just past the last one of the window that ended at `end_frame` (exclusive).
 std::int64_t end_sample(std::int64_t end_frame) { return (end_frame - 1) * 160 + 400; }
 
@@ -425,19 +445,7 @@ int main(int argc, char** argv) {
       }
       const kws::KwsModel model = kws::load_model(model_path);
       {
-        kws::NeuralWakeWord detector(model, 0.5f, kws::Precision::int8);
-        Trace trace;
-        detector.spotter().set_window_observer(
-            [](void* ctx, std::int64_t end_frame, float posterior, float) {
-              auto* t = static_cast<Trace*>(ctx);
-              t->posteriors.push_back(posterior);
-              t->end_frames.push_back(end_frame);
-            },
-            &trace);
-        std::vector<perception::WakeWordDetection> ignored;
-        for (std::size_t i = 0; i < pcm.size(); i += 1600) {
-          detector.process(std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), ignored);
-        }
+        const Trace trace = cnn_trace(model, pcm);
         for (float th : thresholds) {
           const Score s = score(detection_ends(trace, model.detection.smoothing_windows, th, kws::refractory_windows(model)), track);
           std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", ("cnn \"" + model.keyword + "\"").c_str(), static_cast<double>(th),
@@ -527,20 +535,8 @@ int main(int argc, char** argv) {
       }
     }
 
-    kws::NeuralWakeWord detector(model, 0.5f, kws::Precision::int8);
-    Trace trace;
-    detector.spotter().set_window_observer(
-        [](void* ctx, std::int64_t end_frame, float posterior, float) {
-          auto* t = static_cast<Trace*>(ctx);
-          t->posteriors.push_back(posterior);
-          t->end_frames.push_back(end_frame);
-        },
-        &trace);
-    std::vector<perception::WakeWordDetection> ignored;
     const auto neural_start = Clock::now();
-    for (std::size_t i = 0; i < pcm.size(); i += 1600) {
-      detector.process(std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), ignored);
-    }
+    const Trace trace = cnn_trace(model, pcm);
     const double neural_s = std::chrono::duration<double>(Clock::now() - neural_start).count();
     std::printf("neural int8: %zu windows in %.1f s wall clock\n", trace.posteriors.size(), neural_s);
 

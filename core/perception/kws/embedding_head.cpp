@@ -20,21 +20,6 @@ namespace {
 
 constexpr char kHeadMagic[8] = {'M', 'R', 'V', 'N', 'K', 'W', 'E', '\0'};
 
-std::uint32_t head_crc32(const std::uint8_t* data, std::size_t size) {
-  static const std::array<std::uint32_t, 256> table = [] {
-    std::array<std::uint32_t, 256> t{};
-    for (std::uint32_t i = 0; i < 256; ++i) {
-      std::uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  std::uint32_t c = 0xFFFFFFFFu;
-  for (std::size_t i = 0; i < size; ++i) c = table[(c ^ data[i]) & 0xFFu] ^ (c >> 8);
-  return c ^ 0xFFFFFFFFu;
-}
-
 class HeadReader {
  public:
   HeadReader(const std::vector<std::uint8_t>& bytes, std::size_t end, const std::string& name)
@@ -135,7 +120,7 @@ std::vector<std::uint8_t> serialize_head(const EmbeddingHead& head) {
     for (const float x : *v) put_f32(out, x);
   }
   put_f32(out, head.b3);
-  put_u32(out, head_crc32(out.data(), out.size()));
+  put_u32(out, crc32(out.data(), out.size()));
   return out;
 }
 
@@ -177,7 +162,7 @@ EmbeddingHead parse_head(const std::vector<std::uint8_t>& bytes, const std::stri
   }
   std::uint32_t stored = 0;
   std::memcpy(&stored, bytes.data() + bytes.size() - 4, 4);
-  if (stored != head_crc32(bytes.data(), bytes.size() - 4)) {
+  if (stored != crc32(bytes.data(), bytes.size() - 4)) {
     throw ModelFileError(name + ": checksum at byte " + std::to_string(bytes.size() - 4) +
                          ": CRC-32 does not match the contents (damaged file)");
   }

@@ -98,4 +98,7 @@ KwsModel load_model(const std::filesystem::path& path);
 // The feature settings this build's log-mel extractor produces.
 FeatureSettings current_feature_settings();
 
+// The CRC-32 (IEEE 802.3, as zlib's) that ends every model file of this folder.
+std::uint32_t crc32(const std::uint8_t* data, std::size_t size);
+
 }  // namespace marvin::perception::kws
