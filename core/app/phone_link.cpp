@@ -63,8 +63,11 @@ PhoneLink::~PhoneLink() {
     std::lock_guard lock(mutex_);
     help = std::move(help_);
   }
-  help.reset();    // stops trying before the phone goes
-  phone_.reset();  // baresip stops; no more events
+  help.reset();  // stops trying before the phone goes
+  // The last events are delivered while phone_ still points at the phone (on_event uses it;
+  // unique_ptr::reset clears the pointer before the destructor runs).
+  if (phone_) phone_->stop();
+  phone_.reset();
 }
 
 void PhoneLink::start() { phone_->start(); }

@@ -67,7 +67,9 @@ Phone::Phone(PhoneSettings settings, std::filesystem::path config_dir, Listener 
       baresip_(std::move(settings), std::move(config_dir),
                [this](const BaresipEvent& event) { on_baresip_event(event); }) {}
 
-Phone::~Phone() {
+Phone::~Phone() { stop(); }
+
+void Phone::stop() {
   // baresip first: no more events once it is gone; then the delivery thread.
   baresip_.stop();
   {

@@ -58,10 +58,14 @@ class Phone {
 
   Phone(PhoneSettings settings, std::filesystem::path config_dir, Listener listener,
         std::chrono::milliseconds no_answer_timeout = std::chrono::seconds(30));
-  ~Phone();
+  ~Phone();  // stop()
 
   // Starts baresip; throws when it cannot (the message says why).
   void start();
+  // Stops baresip, then the thread that delivers events: once it returns the listener is
+  // never called again. An owner whose listener uses the phone calls it before destroying
+  // the phone (while its pointer to the phone is still valid). Idempotent.
+  void stop();
   bool wait_ready(std::chrono::milliseconds timeout) { return baresip_.wait_ready(timeout); }
 
   // Calls `uri` (sip:...). Empty on success; otherwise why not, in words for the user.

@@ -176,7 +176,10 @@ TEST_CASE("run --sim: an incoming call is announced, answered by voice, then dec
   m.say("decline");
   m.expect("I declined the call from Bob.");
   CHECK(bob.wait_event("CALL_CLOSED", &from));
-  CHECK(test_support::exit_code(m.process.finish()) == 0);
+  const int status = m.process.finish();
+  INFO("signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0) << "; stderr:\n"
+                 << m.process.errors() << "\nstdout:\n" << m.process.output());
+  CHECK(test_support::exit_code(status) == 0);
 }
 
 TEST_CASE("run --sim: call for help goes on past a busy contact; every step is logged") {
