@@ -114,9 +114,9 @@ void install_data(CLI::App& root) {
       SqliteStore store = dir->open();
       const nlohmann::json doc = store.export_json();
       write_file_atomically(*file, doc.dump(2) + "\n");
-      std::printf("exported %zu reminders, %zu contacts, %zu people to %s\n",
+      std::printf("exported %zu reminders, %zu contacts, %zu people, %zu sightings to %s\n",
                   doc["reminders"].size(), doc["contacts"].size(), doc["people"].size(),
-                  file->c_str());
+                  doc["sightings"].size(), file->c_str());
     });
   }
   {
@@ -147,9 +147,10 @@ void install_data(CLI::App& root) {
       } catch (const std::exception& e) {
         throw CliError(std::string(e.what()) + "; nothing was imported");
       }
-      std::printf("imported %zu reminders, %zu contacts, %zu people from %s\n",
+      const std::size_t sightings = doc.contains("sightings") ? doc["sightings"].size() : 0;
+      std::printf("imported %zu reminders, %zu contacts, %zu people, %zu sightings from %s\n",
                   doc["reminders"].size(), doc["contacts"].size(), doc["people"].size(),
-                  file->c_str());
+                  sightings, file->c_str());
     });
   }
 

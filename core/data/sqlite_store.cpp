@@ -712,7 +712,7 @@ std::int64_t SqliteStore::row_count() {
   Statement s(db_, path_text_,
               "SELECT (SELECT count(*) FROM reminders) + (SELECT count(*) FROM contacts) + "
               "(SELECT count(*) FROM people) + (SELECT count(*) FROM skill_storage) + "
-              "(SELECT count(*) FROM events)");
+              "(SELECT count(*) FROM events) + (SELECT count(*) FROM sightings)");
   s.step();
   return s.int64(0);
 }
@@ -795,6 +795,18 @@ json SqliteStore::export_json() {
                         {"message", s.text(4)}});
   }
   doc["events"] = std::move(events);
+  json sightings = json::array();
+  {
+    Statement s(db_, path_text_,
+                "SELECT what, kind, room, near, seen_utc_ms FROM sightings ORDER BY kind, what");
+    while (s.step())
+      sightings.push_back({{"what", s.text(0)},
+                           {"kind", s.text(1)},
+                           {"room", s.text(2)},
+                           {"near", s.text(3)},
+                           {"seen_utc_ms", s.int64(4)}});
+  }
+  doc["sightings"] = std::move(sightings);
   return doc;
 }
 
@@ -982,6 +994,28 @@ void SqliteStore::import_json(const json& doc, std::string_view source_view) {
     if (!event_ids.insert(e.id).second) throw std::runtime_error(w + ".id: duplicate id " + std::to_string(e.id));
     events.push_back(std::move(e));
   }
+  // Backups from before schema 6 (finding) have no sightings: the import then clears them,
+  // as it replaces everything else.
+  std::vector<Sighting> sightings;
+  std::set<std::pair<std::string, std::string>> sighting_keys;
+  if (doc.contains("sightings")) {
+    const json& jg = array_field(doc, "sightings", src);
+    for (std::size_t i = 0; i < jg.size(); ++i) {
+      const std::string w = src + ".sightings[" + std::to_string(i) + "]";
+      Sighting g{field<std::string>(jg[i], "what", w), field<std::string>(jg[i], "kind", w),
+                 field<std::string>(jg[i], "room", w), field<std::string>(jg[i], "near", w),
+                 field<std::int64_t>(jg[i], "seen_utc_ms", w)};
+      if (g.what.empty()) throw std::runtime_error(w + ".what: empty (expected a name or a thing)");
+      if (g.kind != "person" && g.kind != "object")
+        throw std::runtime_error(w + ".kind: unknown value '" + g.kind +
+                                 "' (expected person, object)");
+      std::string key = g.what;  // the table compares names case-insensitively
+      for (char& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (!sighting_keys.insert({key, g.kind}).second)
+        throw std::runtime_error(w + ": duplicate sighting of " + g.kind + " '" + g.what + "'");
+      sightings.push_back(std::move(g));
+    }
+  }
 
   // 2. Replace everything in one transaction.
   std::lock_guard lock(mutex_);
@@ -989,7 +1023,7 @@ void SqliteStore::import_json(const json& doc, std::string_view source_view) {
   sql::exec(db_, path_text_,
             "DELETE FROM face_embeddings; DELETE FROM people; DELETE FROM contact_aliases; "
             "DELETE FROM contact_phones; DELETE FROM contact_sip_uris; DELETE FROM contacts; DELETE FROM reminders; "
-            "DELETE FROM skill_storage; DELETE FROM events;");
+            "DELETE FROM skill_storage; DELETE FROM events; DELETE FROM sightings;");
   {
     Statement s(db_, path_text_,
                 "INSERT INTO reminders(id, title, first_fire_utc_ms, time_zone, recurrence_kind, "
@@ -1043,6 +1077,14 @@ void SqliteStore::import_json(const json& doc, std::string_view source_view) {
     for (const Event& e : events) {
       s.reset();
       s.bind(1, e.id).bind(2, e.time_utc_ms).bind(3, e.kind).bind(4, e.source).bind(5, e.message).run();
+    }
+  }
+  {
+    Statement s(db_, path_text_,
+                "INSERT INTO sightings(what, kind, room, near, seen_utc_ms) VALUES(?,?,?,?,?)");
+    for (const Sighting& g : sightings) {
+      s.reset();
+      s.bind(1, g.what).bind(2, g.kind).bind(3, g.room).bind(4, g.near).bind(5, g.seen_utc_ms).run();
     }
   }
   tx.commit();

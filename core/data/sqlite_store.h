@@ -175,14 +175,14 @@ class SqliteStore final : public PersonalData {
   ChangeSignal& events_written() { return events_written_; }
 
   // --- backup ---------------------------------------------------------------------
-  // Everything (all reminders in every state, contacts, people, faces, storage, events)
-  // as one JSON document; binary values are base64.
+  // Everything (all reminders in every state, contacts, people, faces, storage, events,
+  // sightings) as one JSON document; binary values are base64.
   nlohmann::json export_json();
   // Replaces all personal data with the backup `doc`, keeping its ids. The document is
   // validated first; on any error (message names `source` and the JSON field) nothing
   // changes.
   void import_json(const nlohmann::json& doc, std::string_view source = "backup");
-  // Number of rows in reminders, contacts, people, storage and events together.
+  // Number of rows in reminders, contacts, people, storage, events and sightings together.
   std::int64_t row_count();
 
  private:

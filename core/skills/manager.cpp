@@ -139,10 +139,12 @@ void Manager::light(int which) {
 
 void Manager::stop() {
   LoadedSkill* running = nullptr;
+  std::string stopped;
   {
     std::lock_guard lock(mutex_);
     cancelled_ = true;
     running = running_;
+    stopped = running_stopped_;
   }
   if (running) running->context->cancel();
   user_.interrupt();
@@ -150,7 +152,8 @@ void Manager::stop() {
     const std::string ended = stop_hook_(running ? running->manifest.id : std::string());
     if (!running && !ended.empty()) return say(ended);
   }
-  say(running ? "OK, I stopped." : "OK.");
+  if (!running) return say("OK.");
+  say(stopped.empty() ? "OK, I stopped." : stopped);
 }
 
 std::string Manager::no_match_sentence() const {
@@ -359,6 +362,7 @@ void Manager::run(LoadedSkill& skill, const IntentDecl& intent, const interpret:
   {
     std::lock_guard lock(mutex_);
     running_ = &skill;
+    running_stopped_ = intent.stopped;
     timed_out_ = false;
   }
   if (intent.execution == Execution::kShort || options_.run_long_inline) {

@@ -112,6 +112,7 @@ class Manager : public User {
   bool timed_out_ = false;          // guarded by mutex_
   bool cancelled_ = false;          // guarded by mutex_: "stop" during this conversation
   LoadedSkill* running_ = nullptr;  // guarded by mutex_: the skill acting now
+  std::string running_stopped_;     // guarded by mutex_: its intent's "stopped" sentence
   std::string last_said_;           // guarded by mutex_
   std::thread worker_;
   std::thread watchdog_;

@@ -380,6 +380,9 @@ Manifest parse_manifest(const json& document, const std::string& file) {
             r.optional(in, path, "confirm_question", json::value_t::string, "a string")) {
       intent.confirm_question = q->get<std::string>();
     }
+    if (const json* t = r.optional(in, path, "stopped", json::value_t::string, "a string")) {
+      intent.stopped = t->get<std::string>();
+    }
     if (intent.confirm && intent.confirm_question.empty()) {
       intent.confirm_question = "Shall I go ahead?";
     }

@@ -23,6 +23,8 @@
 //       "description": "a dice roll",     // optional; named in "Did you want ... or ...?"
 //       "confirm": false,                 // optional; ask "confirm_question" before acting
 //       "confirm_question": "Shall I roll {count} dice?",  // optional; {slot} = words heard
+//       "stopped": "All right, I stopped looking.",  // optional; said when "stop"/"no" ends
+//                                         // this intent's task (default "OK, I stopped.")
 //       "execution": "short",             // optional; "short" (host loop) or "long" (worker)
 //       "time_limit_s": 60                // optional; long intents only
 //     }]
@@ -91,6 +93,7 @@ struct IntentDecl {
   std::vector<std::pair<std::string, std::vector<std::string>>> synonyms;
   bool confirm = false;
   std::string confirm_question;  // default "Shall I go ahead?"
+  std::string stopped;  // said when "stop" ends this task; "" = "OK, I stopped." (optional)
   Execution execution = Execution::kShort;
   std::int64_t time_limit_ms = 60'000;
 

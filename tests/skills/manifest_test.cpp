@@ -23,7 +23,8 @@ json valid() {
     "intents": [
       {"name": "roll", "templates": ["roll [a] (die|dice)", "roll {count} dice"],
        "slots": [{"name": "count", "type": "number", "required": true, "question": "How many?"}],
-       "confirm": true, "confirm_question": "Roll {count}?", "execution": "long", "time_limit_s": 5},
+       "confirm": true, "confirm_question": "Roll {count}?", "execution": "long", "time_limit_s": 5,
+       "stopped": "All right, I stopped rolling."},
       {"name": "pick", "templates": ["pick the {colour} one"],
        "slots": [{"name": "colour", "type": "list", "values": ["red", "light blue"]}]}
     ]})json");
@@ -66,6 +67,8 @@ TEST_CASE("a valid manifest: every field read, defaults filled in") {
   CHECK(m.intents[1].slots[0].values == std::vector<std::string>{"red", "light blue"});
   CHECK(m.intents[1].execution == marvin::skills::Execution::kShort);
   CHECK_FALSE(m.intents[1].confirm);
+  CHECK(roll.stopped == "All right, I stopped rolling.");
+  CHECK(m.intents[1].stopped.empty());  // the manager then says "OK, I stopped."
 
   CHECK(m.accepts_host_api({1, 0}));
   CHECK(m.accepts_host_api({1, 4}));
@@ -106,6 +109,11 @@ TEST_CASE("missing fields are named with their path") {
 
 TEST_CASE("wrong types and values are named with their path") {
   json d = valid();
+  d["intents"][0]["stopped"] = true;
+  CHECK(error_of(d) ==
+        "skills/dice/skill.json: $.intents[0].stopped: expected a string, got a boolean");
+
+  d = valid();
   d["version"] = 1;
   CHECK(error_of(d) == "skills/dice/skill.json: $.version: expected a string, got an integer");
 

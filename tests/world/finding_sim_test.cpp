@@ -67,7 +67,7 @@ TEST_CASE("run --sim: find Anna from the kitchen, then from memory; who is in th
   marvin.send_line("find anna");
   marvin.wait_for_line("Marvin: I'll look for Anna.");
   marvin.send_line("no");
-  marvin.wait_for_line("Marvin: OK, I stopped.");
+  marvin.wait_for_line("Marvin: All right, I stopped looking.");
   CHECK(exit_code(marvin.finish()) == 0);
   CHECK(marvin.output().find("[collision") == std::string::npos);
 }
