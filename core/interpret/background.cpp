@@ -289,6 +289,10 @@ const std::vector<std::string>& background_sentences() {
       // To-do lists: no skill keeps one (reminders are at a time).
       "add mowing the lawn to my to do list", "cross laundry off my todo list",
       "is paying the bills on my to do list", "put clean the garage on my todo list",
+      // Where things in the world come from: no one and nothing in the home to find.
+      "what country does coffee come from", "which animal does wool come from",
+      "tell me what rain comes from", "what does the word robot come from",
+      "which region did pizza originate in", "what part of the world do tulips come from",
   };
   return sentences;
 }

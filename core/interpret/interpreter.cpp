@@ -14,6 +14,7 @@
 #include "interpret/normalizer.h"
 #include "interpret/phrasing.h"
 #include "interpret/slot_parsers.h"
+#include "interpret/slot_plausibility.h"
 #include "interpret/template.h"
 #include "interpret/tolerant_matcher.h"
 #include "interpret/wordnet.h"
@@ -147,6 +148,18 @@ struct Interpreter::Impl {
                                                          .entity;
                                             });
                        });
+  }
+  // True when `parse` fills a person-or-thing slot of intent `k` with a known contact or
+  // words that name one without the benefit of the doubt (slot_plausibility.h, strict).
+  // With `contacts_only`, only a known contact counts.
+  bool fills_entity_strictly(std::size_t k, const TolerantMatch& parse,
+                             const ContactBook& contacts, bool contacts_only) const {
+    return std::any_of(parse.slots.begin(), parse.slots.end(), [&](const SlotCapture& c) {
+      if (!intents[k].slots[static_cast<std::size_t>(c.slot)].entity) return false;
+      const std::vector<std::string> words = normalize(c.value.text);
+      return contacts.find(words).has_value() ||
+             (!contacts_only && plausible_entity(words, WordNet::installed(), /*strict=*/true));
+    });
   }
   // True when `parse` fills one of intent `k`'s person-or-thing slots.
   bool fills_entity(std::size_t k, const std::optional<TolerantMatch>& parse) const {
@@ -385,6 +398,11 @@ constexpr float kCloseCall = 0.8F;
 constexpr float kSkillProbability = 0.35F;
 constexpr float kSkillShare = 0.05F;
 constexpr float kModelOverridesExact = 0.3F;
+// Template costs above which an intent that needs a person or thing wants one named for
+// sure (understand()): a contact or a thing without the benefit of the doubt, and above the
+// second only a contact.
+constexpr float kLooseEntityTemplateCost = 2.5F;
+constexpr float kVeryLooseEntityTemplateCost = 3.5F;
 
 // Words people use for the words templates are written with; any skill benefits.
 // utterance word -> template words it may stand for.
@@ -802,6 +820,18 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   // a finding request to the model, but names nothing that could be in a home.
   if (impl.needs_entity(order[0]) && !impl.fills_entity(order[0], parses[0])) {
     u.reason = "names no person or thing for " + impl.intents[order[0]].spec.intent;
+    return u;
+  }
+  // When its template fits only loosely, the model's belief rests on the intent's examples,
+  // which teach its verbs ("find", "where is", "guide me") but not what fills the slot: the
+  // looser the fit, the surer the slot must name someone or something. A loose fit needs a
+  // contact or a word that names one without the benefit of the doubt ("find a recipe for
+  // hamburgers" -> "recipe"); a very loose one needs a contact ("where does cannabis
+  // originate from" fits "where is {what}" only by dropping three words).
+  if (impl.needs_entity(order[0]) && parses[0]->cost > kLooseEntityTemplateCost &&
+      !impl.fills_entity_strictly(order[0], *parses[0], contacts,
+                                  parses[0]->cost > kVeryLooseEntityTemplateCost)) {
+    u.reason = "names no person or thing for sure for " + impl.intents[order[0]].spec.intent;
     return u;
   }
   if (p_dialogue > p1) {

@@ -40,6 +40,12 @@ constexpr std::array<std::string_view, 14> kSuperlatives{
 constexpr std::array<std::string_view, 8> kClauseStarts{"it",  "i",  "you",  "he",
                                                         "she", "we", "they", "there"};
 
+// First words of a question or clause, never of a name: "where is {what}" tolerantly fits
+// "where does cannabis come from" with "does cannabis".
+constexpr std::array<std::string_view, 12> kQuestionStarts{
+    "do",      "does", "did",   "why",    "how",   "whether",
+    "can",     "could", "should", "would", "shall", "must"};
+
 // WordNet lexnames of abstract nouns (see the header).
 constexpr std::array<int, 13> kAbstract{4, 7, 9, 10, 11, 12, 16, 19, 22, 24, 25, 26, 28};
 
@@ -57,8 +63,9 @@ bool only_function_words(std::span<const std::string> words) {
                      [](const std::string& w) { return listed(kFunctionWords, w); });
 }
 
-bool plausible_entity(std::span<const std::string> words, const WordNet* wordnet) {
+bool plausible_entity(std::span<const std::string> words, const WordNet* wordnet, bool strict) {
   if (words.empty() || only_function_words(words)) return false;
+  if (listed(kQuestionStarts, words.front())) return false;
   std::size_t begin = 0;
   // "find her": the last word may be both a determiner and the reference.
   while (begin + 1 < words.size() && listed(kDeterminers, words[begin])) ++begin;
@@ -82,7 +89,7 @@ bool plausible_entity(std::span<const std::string> words, const WordNet* wordnet
   }
   // One or two words with no article or possessive may be a name ("mark", "aunt felicity",
   // "grace"): WordNet files many first names under abstract nouns.
-  if (begin == 0 && end == words.size() && words.size() <= 2) return true;
+  if (!strict && begin == 0 && end == words.size() && words.size() <= 2) return true;
   auto concrete = [&](const std::string& word) {
     const std::vector<int> categories = wordnet->noun_categories(word, 3);
     return std::any_of(categories.begin(), categories.end(), [](int c) {

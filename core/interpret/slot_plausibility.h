@@ -6,6 +6,7 @@
 // in sdk/lua/README.md): what, who, name, thing, object, item, person, device, room, place.
 // Its words must name something that could be in a home or someone:
 //   - not only function words ("the", "a", "of", ...);
+//   - not a question or clause ("does cannabis", "why people get ill", "how to ...");
 //   - its head word (the last word before the first preposition or clause word, after
 //     leading articles and possessives: "a recipe for hamburgers" -> "recipe") is a contact,
 //     a pronoun, a word WordNet does not know (a name: "brexit", "bob") or a noun with at
@@ -29,8 +30,12 @@ class WordNet;
 // True when a slot called `slot_name` holds a person or a thing (see above).
 bool is_entity_slot(std::string_view slot_name);
 
-// True when `words` may name a person or a thing. `wordnet` may be nullptr.
-bool plausible_entity(std::span<const std::string> words, const WordNet* wordnet);
+// True when `words` may name a person or a thing. `wordnet` may be nullptr. `strict` drops
+// the benefit of the doubt that one or two bare words are a name WordNet files under an
+// abstract noun ("mark", "grace"): for a request that fits a template only loosely, where
+// the words are more likely a topic ("find a recipe ..." -> "recipe").
+bool plausible_entity(std::span<const std::string> words, const WordNet* wordnet,
+                      bool strict = false);
 
 // True when every word is a function word ("the", "a", "of", "to", ...): never a slot value.
 bool only_function_words(std::span<const std::string> words);
