@@ -25,7 +25,7 @@ constexpr double kFieldOfViewDeg = 60;
 // thing.
 constexpr double kFaceHeightM = 0.18, kThingHeightM = 0.25;
 
-navigation::WaitFn finding_wait(SkillContext &c, navigation::GoingPlaces &going) {
+navigation::WaitFn finding_wait(SkillContext& c, navigation::GoingPlaces& going) {
   const double scale = going.time_scale() > 0 ? going.time_scale() : 1.0;
   return [&c, scale](std::chrono::milliseconds robot_ms) {
     auto wall =
@@ -34,8 +34,8 @@ navigation::WaitFn finding_wait(SkillContext &c, navigation::GoingPlaces &going)
   };
 }
 
-marvin_status api_look_around(marvin_host *host, uint32_t stops, marvin_text_out *out) {
-  return guarded(host, [&](SkillContext &c) {
+marvin_status api_look_around(marvin_host* host, uint32_t stops, marvin_text_out* out) {
+  return guarded(host, [&](SkillContext& c) {
     if (!out) return fail(c, MARVIN_ERR_INVALID, "the output buffer is NULL");
     if (stops == 0) stops = 8;
     if (stops < 4 || stops > 12) {
@@ -45,12 +45,12 @@ marvin_status api_look_around(marvin_host *host, uint32_t stops, marvin_text_out
     MARVIN_TRY(need(c, {"camera", "motion"}));
     MARVIN_TRY(need_service(c, c.services().eyes, "camera"));
     MARVIN_TRY(need_service(c, c.services().going_places, "map to turn and look with"));
-    navigation::GoingPlaces &going = *c.services().going_places;
+    navigation::GoingPlaces& going = *c.services().going_places;
     json seen = json::array();
     const double step = 360.0 / stops;
     for (std::uint32_t i = 0; i < stops; ++i) {
       if (c.cancelled()) return fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
-      for (json &s : record_sightings(c, c.services().eyes->look_json(), step * i)) {
+      for (json& s : record_sightings(c, c.services().eyes->look_json(), step * i)) {
         seen.push_back(std::move(s));
       }
       if (i + 1 < stops && !going.turn(step, finding_wait(c, going))) {
@@ -65,14 +65,14 @@ marvin_status api_look_around(marvin_host *host, uint32_t stops, marvin_text_out
   });
 }
 
-marvin_status api_sightings_find(marvin_host *host, const char *what, int64_t since,
-                                 marvin_text_out *out) {
-  return guarded(host, [&](SkillContext &c) {
+marvin_status api_sightings_find(marvin_host* host, const char* what, int64_t since,
+                                 marvin_text_out* out) {
+  return guarded(host, [&](SkillContext& c) {
     if (!what || !out) return fail(c, MARVIN_ERR_INVALID, "what or the output is NULL");
     MARVIN_TRY(need(c, "camera"));
     MARVIN_TRY(need_service(c, c.services().sightings, "sightings log"));
     json rows = json::array();
-    for (const data::Sighting &s : c.services().sightings->find(what, since)) {
+    for (const data::Sighting& s : c.services().sightings->find(what, since)) {
       rows.push_back({{"what", s.what},
                       {"kind", s.kind},
                       {"room", s.room},
@@ -83,8 +83,8 @@ marvin_status api_sightings_find(marvin_host *host, const char *what, int64_t si
   });
 }
 
-marvin_status api_rooms_to_search(marvin_host *host, marvin_text_out *out) {
-  return guarded(host, [&](SkillContext &c) {
+marvin_status api_rooms_to_search(marvin_host* host, marvin_text_out* out) {
+  return guarded(host, [&](SkillContext& c) {
     if (!out) return fail(c, MARVIN_ERR_INVALID, "the output buffer is NULL");
     MARVIN_TRY(need(c, "sensors"));
     MARVIN_TRY(need_service(c, c.services().going_places, "map"));
@@ -92,8 +92,8 @@ marvin_status api_rooms_to_search(marvin_host *host, marvin_text_out *out) {
   });
 }
 
-marvin_status api_place_find(marvin_host *host, const char *name, marvin_text_out *out) {
-  return guarded(host, [&](SkillContext &c) {
+marvin_status api_place_find(marvin_host* host, const char* name, marvin_text_out* out) {
+  return guarded(host, [&](SkillContext& c) {
     if (!name || !out) return fail(c, MARVIN_ERR_INVALID, "name or the output is NULL");
     MARVIN_TRY(need(c, "sensors"));
     MARVIN_TRY(need_service(c, c.services().going_places, "map"));
@@ -107,15 +107,15 @@ marvin_status api_place_find(marvin_host *host, const char *name, marvin_text_ou
   });
 }
 
-marvin_status api_turn(marvin_host *host, int32_t degrees) {
-  return guarded(host, [&](SkillContext &c) {
+marvin_status api_turn(marvin_host* host, int32_t degrees) {
+  return guarded(host, [&](SkillContext& c) {
     if (degrees < -360 || degrees > 360) {
       return fail(c, MARVIN_ERR_INVALID,
                   "degrees is " + std::to_string(degrees) + ", expected -360 to 360");
     }
     MARVIN_TRY(need(c, "motion"));
     MARVIN_TRY(need_service(c, c.services().going_places, "map to turn with"));
-    navigation::GoingPlaces &going = *c.services().going_places;
+    navigation::GoingPlaces& going = *c.services().going_places;
     if (c.cancelled() || !going.turn(degrees, finding_wait(c, going))) {
       going.stop();
       return fail(c, MARVIN_ERR_CANCELLED, "the motion was stopped");
@@ -124,19 +124,19 @@ marvin_status api_turn(marvin_host *host, int32_t degrees) {
   });
 }
 
-json guard_json(const GuardState &s) {
+json guard_json(const GuardState& s) {
   return {{"on", s.on}, {"since_unix_ms", s.since_ms}, {"alerts", s.alerts}, {"by", s.by}};
 }
 
-marvin_status api_guard(marvin_host *host, int32_t mode, marvin_text_out *out) {
-  return guarded(host, [&](SkillContext &c) {
+marvin_status api_guard(marvin_host* host, int32_t mode, marvin_text_out* out) {
+  return guarded(host, [&](SkillContext& c) {
     if (mode < -1 || mode > 1) {
       return fail(c, MARVIN_ERR_INVALID,
                   "mode is " + std::to_string(mode) + ", expected 1 (on), 0 (off) or -1");
     }
     MARVIN_TRY(need(c, "camera"));
     MARVIN_TRY(need_service(c, c.services().guard, "guard mode (no camera)"));
-    Guard &guard = *c.services().guard;
+    Guard& guard = *c.services().guard;
     GuardState state;
     if (mode == 1) {
       state = guard.on();
@@ -145,7 +145,7 @@ marvin_status api_guard(marvin_host *host, int32_t mode, marvin_text_out *out) {
       // now.
       std::string known;
       if (c.services().eyes) {
-        for (const json &f :
+        for (const json& f :
              json::parse(c.services().eyes->look_json()).value("faces", json::array())) {
           if (!f.value("name", "").empty()) known = f.value("name", "");
         }
@@ -164,14 +164,14 @@ marvin_status api_guard(marvin_host *host, int32_t mode, marvin_text_out *out) {
   });
 }
 
-marvin_status api_events_list(marvin_host *host, const char *kind, int64_t since,
-                              marvin_text_out *out) {
-  return guarded(host, [&](SkillContext &c) {
+marvin_status api_events_list(marvin_host* host, const char* kind, int64_t since,
+                              marvin_text_out* out) {
+  return guarded(host, [&](SkillContext& c) {
     if (!kind || !out) return fail(c, MARVIN_ERR_INVALID, "kind or the output is NULL");
     MARVIN_TRY(need(c, "events"));
     MARVIN_TRY(need_service(c, c.services().events, "event log"));
     json rows = json::array();
-    for (const auto &e : c.services().events(kind, since)) {
+    for (const auto& e : c.services().events(kind, since)) {
       rows.push_back({{"kind", e.kind}, {"message", e.message}, {"time_unix_ms", e.time_ms}});
     }
     return write_text(out, rows.dump());
@@ -180,13 +180,13 @@ marvin_status api_events_list(marvin_host *host, const char *kind, int64_t since
 
 }  // namespace
 
-json record_sightings(SkillContext &c, const std::string &seen_json, double bearing_offset_deg) {
+json record_sightings(SkillContext& c, const std::string& seen_json, double bearing_offset_deg) {
   json out = json::array();
   try {
     const json seen = json::parse(seen_json);
     const double width = seen.value("width", 640.0);
     const double focal = width / 2 / std::tan(kFieldOfViewDeg / 2 * kFindPi / 180);
-    auto add = [&](const json &item, const std::string &kind, const std::string &name,
+    auto add = [&](const json& item, const std::string& kind, const std::string& name,
                    double real_height) {
       const json box = item.value("box", json::array({0, 0, 0, 0}));
       const double cx = box[0].get<double>() + box[2].get<double>() / 2;
@@ -199,7 +199,7 @@ json record_sightings(SkillContext &c, const std::string &seen_json, double bear
                  {"distance_m", std::round(distance * 10) / 10},
                  {"room", ""},
                  {"near", ""}};
-      if (navigation::GoingPlaces *going = c.services().going_places) {
+      if (navigation::GoingPlaces* going = c.services().going_places) {
         if (auto spot = going->locate(bearing, distance)) {
           entry["room"] = spot->room;
           entry["near"] = spot->near;
@@ -210,19 +210,19 @@ json record_sightings(SkillContext &c, const std::string &seen_json, double bear
       }
       out.push_back(std::move(entry));
     };
-    for (const json &f : seen.value("faces", json::array())) {
+    for (const json& f : seen.value("faces", json::array())) {
       add(f, "person", f.value("name", ""), kFaceHeightM);
     }
-    for (const json &o : seen.value("objects", json::array())) {
+    for (const json& o : seen.value("objects", json::array())) {
       add(o, "object", o.value("label", ""), kThingHeightM);
     }
-  } catch (const std::exception &e) {
+  } catch (const std::exception& e) {
     log(LogLevel::kWarning, "sightings", std::string("not recorded: ") + e.what());
   }
   return out;
 }
 
-void add_finding_api(marvin_robot_api &a) {
+void add_finding_api(marvin_robot_api& a) {
   a.look_around = api_look_around;
   a.sightings_find = api_sightings_find;
   a.rooms_to_search = api_rooms_to_search;
