@@ -252,6 +252,18 @@ TEST_CASE("web: devices are listed and switched through the home's broker, as by
   Reply off = b.send("POST", path, json{{"on", false}}.dump());
   REQUIRE(off.status == 200);
   CHECK(off.json()["on"] == false);
+
+  // Switched by voice (the host's HomeLink, not the page): an open page is told to reload
+  // its devices once the lamp reported the new state, and then reads it on.
+  auto live = b.open_live();
+  REQUIRE(live->next_event().first == "hello");
+  REQUIRE(link.set(lamp["id"].get<std::string>(), json{{"on", true}}).result ==
+          skills::SmartHome::Result::kDone);
+  auto changed = live->next_event();
+  CHECK(changed.first == "changed");
+  CHECK(json::parse(changed.second) == json{{"what", "devices"}});
+  for (const json& d : b.send("GET", "/api/devices").json()["devices"])
+    if (d["name"] == "living room lamp") CHECK(d["on"] == true);
   service.stop();
 }
 
