@@ -253,6 +253,14 @@ TEST_CASE("web: devices are listed and switched through the home's broker, as by
   REQUIRE(off.status == 200);
   CHECK(off.json()["on"] == false);
 
+  // Dimmed as the page's brightness input sends it: the answer is the reported brightness.
+  Reply dim = b.send("POST", "/api/devices/kitchen%20light",
+                     json{{"on", true}, {"brightness", 30}}.dump());
+  REQUIRE(dim.status == 200);
+  CHECK(dim.json()["on"] == true);
+  CHECK(dim.json()["brightness"] == 30);
+  CHECK(dim.json()["dimmable"] == true);
+
   // Switched by voice (the host's HomeLink, not the page): an open page is told to reload
   // its devices once the lamp reported the new state, and then reads it on.
   auto live = b.open_live();
