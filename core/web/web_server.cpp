@@ -403,6 +403,13 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
       return send(error_response(400, std::string("query: ") + e.what()), !keep);
     }
     ApiResponse out = server_.api.handle(api);
+    if (!out.content_type.empty()) {
+      Response res = base_response(out.status);
+      res.set(http::field::content_type, out.content_type);
+      res.body() = std::move(out.raw);
+      res.prepare_payload();
+      return send(std::move(res), !keep);
+    }
     if (method != "GET" && out.status < 300) {
       // Other open pages refresh what changed ("reminders", "contacts", "skills").
       const std::string what = path.substr(

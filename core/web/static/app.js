@@ -247,7 +247,19 @@ function eventRow(e) {
   cell(row, e.time);
   cell(row, e.kind);
   cell(row, e.source);
-  cell(row, e.message);
+  const message = cell(row, e.message);
+  if (e.photo) {
+    // The intruder alert's photo, asked by the event's id (the session's cookie goes along).
+    const link = document.createElement('a');
+    link.href = '/api/events/' + e.id + '/photo';
+    const img = document.createElement('img');
+    img.src = link.href;
+    img.className = 'event-photo';
+    img.alt = 'Photo taken at the intruder alert of ' + e.time;
+    link.appendChild(img);
+    message.appendChild(document.createElement('br'));
+    message.appendChild(link);
+  }
   return row;
 }
 
