@@ -18,6 +18,9 @@ class HomeLink final : public skills::SmartHome {
   explicit HomeLink(home::HomeService& service) : service_(service) {}
   nlohmann::json devices() override;
   Reply set(const std::string& device, const nlohmann::json& state) override;
+  void on_change(std::function<void()> listener) override {
+    service_.on_devices_changed(std::move(listener));
+  }
 
  private:
   home::HomeService& service_;

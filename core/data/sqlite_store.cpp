@@ -707,6 +707,15 @@ std::vector<Event> SqliteStore::recent_events(std::size_t limit) {
   return out;
 }
 
+std::optional<Event> SqliteStore::event(std::int64_t id) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, path_text_,
+              "SELECT id, time_utc_ms, kind, source, message FROM events WHERE id = ?");
+  s.bind(1, id);
+  if (!s.step()) return std::nullopt;
+  return Event{s.int64(0), s.int64(1), s.text(2), s.text(3), s.text(4)};
+}
+
 std::int64_t SqliteStore::row_count() {
   std::lock_guard lock(mutex_);
   Statement s(db_, path_text_,

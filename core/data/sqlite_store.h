@@ -25,6 +25,7 @@
 #include <mutex>
 #include <nlohmann/json_fwd.hpp>
 #include <span>
+#include <optional>
 #include <string>
 
 #include "data/change_signal.h"
@@ -169,6 +170,8 @@ class SqliteStore final : public PersonalData {
   // --- event log ----------------------------------------------------------------
   // The latest `limit` events, newest first.
   std::vector<Event> recent_events(std::size_t limit);
+  // The event with this id, if there is one.
+  std::optional<Event> event(std::int64_t id);
   // Notified after every commit that added events (log_event, advance_reminder(s) with an
   // event), on the writing thread: the web page shows new events at once, without reading
   // the log on a timer. Events written by other processes are not notified here.

@@ -273,7 +273,7 @@ void HomeService::handle_message(const std::string& t, std::string_view payload,
       ignored(t, e.what());
       return;
     }
-    changed_.notify_all();
+    tell_devices_changed();
     return;
   }
   if (t == config_.zigbee2mqtt_base + "/bridge/devices") {
@@ -285,7 +285,7 @@ void HomeService::handle_message(const std::string& t, std::string_view payload,
       ignored(t, e.what());
       return;
     }
-    changed_.notify_all();
+    tell_devices_changed();
     return;
   }
   if (t == topic("sync")) {
@@ -329,7 +329,7 @@ void HomeService::handle_message(const std::string& t, std::string_view payload,
       }
     }
   }
-  if (changed) changed_.notify_all();
+  if (changed) tell_devices_changed();
 }
 
 void HomeService::handle_connection(bool up) {
@@ -337,7 +337,7 @@ void HomeService::handle_connection(bool up) {
     std::lock_guard lock(mutex_);
     up_ = up;
   }
-  changed_.notify_all();
+  tell_devices_changed();
   if (up) publish_presence();
 }
 
@@ -364,6 +364,17 @@ void HomeService::publish_event(const std::string& event_type, const std::string
   if (!client_->publish(topic("event"), event.dump(), 1, false)) {
     log(LogLevel::kInfo, "home", "event " + event_type + " not published: no broker");
   }
+}
+
+void HomeService::on_devices_changed(std::function<void()> listener) {
+  std::lock_guard listening(devices_listener_mutex_);
+  devices_listener_ = std::move(listener);
+}
+
+void HomeService::tell_devices_changed() {
+  changed_.notify_all();
+  std::lock_guard listening(devices_listener_mutex_);
+  if (devices_listener_) devices_listener_();
 }
 
 void HomeService::on_command(

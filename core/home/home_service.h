@@ -94,6 +94,13 @@ class HomeService {
   void on_command(std::function<void(const std::string& name, const std::string& payload)> f);
   std::string topic(const std::string& leaf) const;  // "marvin/<site>/<leaf>"
 
+  // Told after the devices changed: a reported state or availability, a device found or
+  // gone, the broker connected or lost. Whoever switched it (a voice command, a skill, the
+  // web page, `marvin devices`, another app on the bus): the report is what counts. Called
+  // on the service's thread, outside its lock; one listener, empty to stop. After
+  // on_devices_changed() returns, the previous listener is not running and not called again.
+  void on_devices_changed(std::function<void()> listener);
+
  private:
   void handle_message(const std::string& topic, std::string_view payload, bool retained);
   void handle_connection(bool up);
@@ -101,6 +108,7 @@ class HomeService {
   void remove_devices_from(const std::string& source_key);                     // mutex_ held
   void publish_presence();
   std::string status_json() const;
+  void tell_devices_changed();  // changed_.notify_all(), then the listener
 
   HomeConfig config_;
   boost::asio::io_context io_;
@@ -119,6 +127,8 @@ class HomeService {
   std::function<void(const std::string&, const std::string&)> command_handler_;
   bool up_ = false;
   std::string last_sync_;  // mutex_
+  std::function<void()> devices_listener_;
+  std::mutex devices_listener_mutex_;  // held while the listener runs
 };
 
 const char* to_string(HomeService::Outcome outcome);

@@ -3,6 +3,7 @@
 // MQTT: only devices as JSON and a "set and confirm".
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -27,6 +28,11 @@ class SmartHome {
   // `device` (an id, or a name or alias of exactly one device) and waits for the device to
   // report it: kDone only then.
   virtual Reply set(const std::string& device, const nlohmann::json& state) = 0;
+
+  // Told (on any thread) after devices() changed, whoever switched a device: the web page's
+  // open Devices pages refresh. One listener, empty to stop; after the call returns the
+  // previous one is not running. A smart home that cannot tell ignores it.
+  virtual void on_change(std::function<void()> listener) { (void)listener; }
 };
 
 }  // namespace marvin::skills

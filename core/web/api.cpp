@@ -137,7 +137,8 @@ json Api::event_json(std::int64_t id, std::int64_t time_utc_ms, const std::strin
           {"time_utc_ms", time_utc_ms},
           {"kind", kind},
           {"source", source},
-          {"message", message}};
+          {"message", message},
+          {"photo", !photo_of_event(kind, message).empty()}};
 }
 
 ApiResponse Api::handle(const ApiRequest& r) {
@@ -162,6 +163,8 @@ ApiResponse Api::handle(const ApiRequest& r) {
       if (parts[1] == "install" && r.method == "POST") return install_skill(r);
       return skills(r, parts[1], parts[2]);
     }
+    if (what == "events" && r.method == "GET" && !parts[1].empty() && parts[2] == "photo")
+      return event_photo(parts[1]);
     if (what == "events" && r.method == "GET") return events(r);
     if (what == "people") return people(r, parts[1]);
     if (what == "devices") return devices(r, parts[1]);

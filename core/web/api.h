@@ -27,8 +27,13 @@ struct ApiRequest {
 };
 
 struct ApiResponse {
+  ApiResponse() = default;
+  ApiResponse(unsigned s, nlohmann::json b) : status(s), body(std::move(b)) {}
   unsigned status = 200;
   nlohmann::json body;  // {"error": "..."} when status >= 400
+  // Not JSON (an event's photo): sent as these bytes with this content type instead of body.
+  std::string content_type;
+  std::string raw;
 };
 
 class Api {
@@ -55,6 +60,9 @@ class Api {
   ApiResponse enroll_person(const ApiRequest& r);
   ApiResponse devices(const ApiRequest& r, const std::string& id);
   ApiResponse home();
+  // api_photos.cpp: an intruder event's photo, by the event's id.
+  ApiResponse event_photo(const std::string& id);
+  std::filesystem::path photos_dir() const;
 
   const WebOptions& options_;
   data::PersonalData& data_;
@@ -68,6 +76,9 @@ struct ApiError : std::runtime_error {
   ApiError(unsigned s, const std::string& message) : std::runtime_error(message), status(s) {}
   unsigned status;
 };
+
+// The photo an event names ("... Photo: <path>" at the end of an intruder alert), or "".
+std::string photo_of_event(const std::string& kind, const std::string& message);
 
 // The request's JSON object (400 naming the body otherwise), and an id in a path.
 nlohmann::json parse_body(const std::string& body);

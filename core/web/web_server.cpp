@@ -27,6 +27,7 @@
 
 #include "data/personal_data.h"
 #include "data/sqlite_store.h"
+#include "skills/smart_home.h"
 #include "web/api.h"
 #include "web/live.h"
 #include "web/tls.h"
@@ -149,6 +150,7 @@ struct WebServer::Impl {
   std::optional<tcp::acceptor> acceptor;
   std::uint64_t events_watch = 0;               // the store's events_written() token
   std::atomic<bool> events_read_queued{false};  // a read_new_events() is posted, not yet run
+  std::atomic<bool> devices_change_queued{false};  // a "changed devices" is posted, not yet sent
   std::optional<asio::posix::stream_descriptor> file_changes;  // inotify, or none
   std::optional<asio::steady_timer> recheck_timer;             // re-reads after a change
   std::string db_name;                                         // "marvin.db"
@@ -401,6 +403,13 @@ class WebConnection : public std::enable_shared_from_this<WebConnection> {
       return send(error_response(400, std::string("query: ") + e.what()), !keep);
     }
     ApiResponse out = server_.api.handle(api);
+    if (!out.content_type.empty()) {
+      Response res = base_response(out.status);
+      res.set(http::field::content_type, out.content_type);
+      res.body() = std::move(out.raw);
+      res.prepare_payload();
+      return send(std::move(res), !keep);
+    }
     if (method != "GET" && out.status < 300) {
       // Other open pages refresh what changed ("reminders", "contacts", "skills").
       const std::string what = path.substr(
@@ -646,6 +655,16 @@ void WebServer::start() {
   // thread, and a burst of writes before it runs is one read. Nothing runs while idle.
   s.events_watch = s.store.events_written().watch([&s] { s.wake_for_events(); });
   s.watch_other_writers();
+  // A device switched by voice, a skill, the CLI or another app: open Devices pages reload,
+  // as after a change on another page (one "changed" per burst of reports).
+  if (s.options.smart_home)
+    s.options.smart_home->on_change([&s] {
+      if (!s.devices_change_queued.exchange(true))
+        asio::post(s.ioc, [&s] {
+          s.devices_change_queued = false;
+          if (!s.stopping) s.broadcast("changed", {{"what", "devices"}});
+        });
+    });
   if (s.feed) {
     s.feed->set_listener([&s](const std::string& kind, const json& update) {
       asio::post(s.ioc, [&s, kind, update] { s.broadcast(kind, update); });
@@ -659,6 +678,7 @@ void WebServer::stop() {
   Impl& s = *impl_;
   if (!s.running) return;
   if (s.feed) s.feed->set_listener(nullptr);
+  if (s.options.smart_home) s.options.smart_home->on_change(nullptr);
   s.store.events_written().unwatch(s.events_watch);
   asio::post(s.ioc, [&s] {
     // A timer or accept that completed just before is already queued: the flag stops it

@@ -50,6 +50,9 @@ struct WebOptions {
   // made on first start.
   std::filesystem::path cert_file;
   std::filesystem::path key_file;
+  // Where the camera's photos are (intruder photos on the Events page); empty: the store's
+  // folder's photos/ (<data dir>/photos, as the host saves them).
+  std::filesystem::path photos_dir;
   // The page's HTML, CSS and JavaScript (default_static_dir()).
   std::filesystem::path static_dir;
   // The store's installed skills (the skills page); empty: none.

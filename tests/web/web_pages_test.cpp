@@ -22,6 +22,7 @@ using nlohmann::json;
 using test::Browser;
 using test::Reply;
 using test::Site;
+namespace fs = std::filesystem;
 
 std::vector<float> face(float value) {
   return std::vector<float>(static_cast<std::size_t>(vision::kEmbeddingSize), value);
@@ -252,7 +253,106 @@ TEST_CASE("web: devices are listed and switched through the home's broker, as by
   Reply off = b.send("POST", path, json{{"on", false}}.dump());
   REQUIRE(off.status == 200);
   CHECK(off.json()["on"] == false);
+
+  // Dimmed as the page's brightness input sends it: the answer is the reported brightness.
+  Reply dim = b.send("POST", "/api/devices/kitchen%20light",
+                     json{{"on", true}, {"brightness", 30}}.dump());
+  REQUIRE(dim.status == 200);
+  CHECK(dim.json()["on"] == true);
+  CHECK(dim.json()["brightness"] == 30);
+  CHECK(dim.json()["dimmable"] == true);
+
+  // Switched by voice (the host's HomeLink, not the page): an open page is told to reload
+  // its devices once the lamp reported the new state, and then reads it on.
+  auto live = b.open_live();
+  REQUIRE(live->next_event().first == "hello");
+  REQUIRE(link.set(lamp["id"].get<std::string>(), json{{"on", true}}).result ==
+          skills::SmartHome::Result::kDone);
+  auto changed = live->next_event();
+  CHECK(changed.first == "changed");
+  CHECK(json::parse(changed.second) == json{{"what", "devices"}});
+  for (const json& d : b.send("GET", "/api/devices").json()["devices"])
+    if (d["name"] == "living room lamp") CHECK(d["on"] == true);
   service.stop();
+}
+
+// An intruder alert as the guard logs it (app/host.cpp), naming `photo`; its event id.
+std::int64_t log_intruder(data::SqliteStore& store, const std::string& photo,
+                          const std::string& kind = "intruder") {
+  store.log_event(kind, "guard", "Intruder alert: I see someone I don't know. Photo: " + photo);
+  return store.recent_events(1).at(0).id;
+}
+
+std::string jpeg_bytes(int value) {
+  std::vector<unsigned char> out;
+  REQUIRE(cv::imencode(".jpg", cv::Mat(8, 8, CV_8UC3, cv::Scalar(value, value, value)), out));
+  return std::string(out.begin(), out.end());
+}
+
+std::string photo_path(std::int64_t id) { return "/api/events/" + std::to_string(id) + "/photo"; }
+
+TEST_CASE("web: an intruder photo is served by event id, only from the photo folder") {
+  Site site;
+  const fs::path folder = site.tmp / "data/photos/guard";
+  fs::create_directories(folder);
+  const std::string photo = jpeg_bytes(200);
+  test_support::write_text(folder / "photo-1.jpg", photo);
+  // Outside the folder: a JPEG, and a secret the events point at in several ways.
+  const std::string secret = jpeg_bytes(7) + "SECRET-BYTES";
+  test_support::write_text(site.tmp / "data/secret.jpg", secret);
+  fs::create_symlink(site.tmp / "data/secret.jpg", folder / "link.jpg");
+  test_support::write_text(folder / "notes.jpg", "not a photo at all");
+
+  const std::int64_t good = log_intruder(site.store, (folder / "photo-1.jpg").string());
+  Browser b = site.logged_in();
+
+  SUBCASE("the page's session gets the photo as image/jpeg, and the event says it has one") {
+    Reply r = b.send("GET", photo_path(good));
+    CHECK(r.status == 200);
+    CHECK(r.content_type == "image/jpeg");
+    CHECK(r.body == photo);
+    const json events = b.send("GET", "/api/events").json();
+    REQUIRE(!events.empty());
+    CHECK(events[0]["id"] == good);
+    CHECK(events[0]["photo"] == true);
+  }
+  SUBCASE("without a session nothing is served") {
+    Reply r = site.browser().send("GET", photo_path(good));
+    CHECK(r.status == 401);
+    CHECK(r.error() == "not logged in, or the session expired: log in at /login.html");
+    CHECK(r.body.find(photo.substr(0, 64)) == std::string::npos);
+  }
+  SUBCASE("an event whose photo lies outside the folder is refused, naming neither path nor bytes") {
+    for (const std::string& named :
+         {(site.tmp / "data/secret.jpg").string(), (folder / "../../secret.jpg").string(),
+          (folder / "link.jpg").string(), (folder / "notes.jpg").string()}) {
+      CAPTURE(named);
+      const std::int64_t id = log_intruder(site.store, named);
+      Reply r = b.send("GET", photo_path(id));
+      CHECK(r.status == 403);
+      CHECK(r.error() == "event " + std::to_string(id) +
+                             ": its photo is not in Marvin's photo folder; nothing is served");
+      CHECK(r.body.find("SECRET") == std::string::npos);
+      CHECK(r.body.find((site.tmp / "data").string()) == std::string::npos);
+      CHECK(r.content_type.rfind("application/json", 0) == 0);
+    }
+  }
+  SUBCASE("only an intruder alert names a photo; unknown ids and bad ids are refused") {
+    const std::int64_t other = log_intruder(site.store, (folder / "photo-1.jpg").string(), "skill");
+    Reply not_alert = b.send("GET", photo_path(other));
+    CHECK(not_alert.status == 404);
+    CHECK(not_alert.error() == "event " + std::to_string(other) + " has no photo");
+    CHECK(b.send("GET", "/api/events").json()[0]["photo"] == false);
+    Reply unknown = b.send("GET", photo_path(other + 100));
+    CHECK(unknown.status == 404);
+    CHECK(unknown.error() == "no event with id " + std::to_string(other + 100));
+    Reply bad = b.send("GET", "/api/events/..%2Fsecret.jpg/photo");
+    CHECK(bad.status == 404);
+    CHECK(bad.error() == "event id '../secret.jpg' is not a number");
+  }
+  // Nothing stored changed: the photos are where they were, byte for byte.
+  CHECK(test_support::read_text(folder / "photo-1.jpg") == photo);
+  CHECK(test_support::read_text(site.tmp / "data/secret.jpg") == secret);
 }
 
 }  // namespace

@@ -247,7 +247,19 @@ function eventRow(e) {
   cell(row, e.time);
   cell(row, e.kind);
   cell(row, e.source);
-  cell(row, e.message);
+  const message = cell(row, e.message);
+  if (e.photo) {
+    // The intruder alert's photo, asked by the event's id (the session's cookie goes along).
+    const link = document.createElement('a');
+    link.href = '/api/events/' + e.id + '/photo';
+    const img = document.createElement('img');
+    img.src = link.href;
+    img.className = 'event-photo';
+    img.alt = 'Photo taken at the intruder alert of ' + e.time;
+    link.appendChild(img);
+    message.appendChild(document.createElement('br'));
+    message.appendChild(link);
+  }
   return row;
 }
 
@@ -347,6 +359,36 @@ async function loadDevices() {
         await loadDevices();
       }, 'The ' + d.name + ' is ' + (on ? 'on' : 'off') + '.'), !on)
           .setAttribute('aria-label', label + ' ' + d.name);
+    }
+    if (d.dimmable) {
+      // Dimming: a labelled number input (keyboard and screen readers) and a Set button.
+      const id = 'dim-' + d.id.replace(/[^A-Za-z0-9_-]/g, '_');
+      const label = document.createElement('label');
+      label.htmlFor = id;
+      label.textContent = 'Brightness of the ' + d.name + ' (%) ';
+      const input = document.createElement('input');
+      input.type = 'number';
+      input.id = id;
+      input.min = '0';
+      input.max = '100';
+      input.step = '1';
+      input.value = d.brightness === null ? '' : String(d.brightness);
+      actions.appendChild(label);
+      actions.appendChild(input);
+      actions.appendChild(document.createTextNode(' '));
+      button(actions, 'Set', () => guarded(async () => {
+        const brightness = Number(input.value);
+        if (input.value === '' || !Number.isInteger(brightness) || brightness < 0 || brightness > 100) {
+          throw new Error('Brightness: a whole number from 0 to 100.');
+        }
+        say('Dimming the ' + d.name + ' to ' + brightness + '%…');
+        // 0 % is off (a lamp switched off need not report a brightness of 0).
+        await api('POST', '/api/devices/' + encodeURIComponent(d.id),
+                  brightness > 0 ? {on: true, brightness} : {on: false});
+        await loadDevices();
+        say('The ' + d.name + (brightness > 0 ? ' is at ' + brightness + '%.' : ' is off.'));
+      }), true)
+          .setAttribute('aria-label', 'Set the brightness of the ' + d.name);
     }
     body.appendChild(row);
   }
