@@ -9,6 +9,7 @@
 #include "perception/kws/dataset.h"
 #include "perception/kws/neural_wake_word.h"
 #include "perception/log_mel.h"
+#include "kws/spoken_clip.h"
 
 namespace kws = marvin::perception::kws;
 namespace perception = marvin::perception;
@@ -27,14 +28,7 @@ const kws::KwsModel& model() {
 
 // Speech with a second of quiet on both sides.
 std::vector<std::int16_t> spoken(const std::string& text, const std::string& voice) {
-  std::vector<float> a(16000, 0.0f);
-  std::vector<float> s = kws::synthesize(text, voice, 160, 50);
-  float peak = 0.0f;
-  for (float v : s) peak = std::max(peak, std::fabs(v));
-  for (float& v : s) v *= 0.5f / peak;
-  a.insert(a.end(), s.begin(), s.end());
-  a.resize(a.size() + 16000, 0.0f);
-  return marvin::audio::to_pcm16(a);
+  return kws::testing::spoken_clip(text, voice, 16000);
 }
 
 std::size_t detections_in(const std::vector<std::int16_t>& pcm, std::vector<perception::WakeWordDetection>* out = nullptr) {

@@ -8,6 +8,7 @@
 #include "devices/audio/sound_buffer.h"
 #include "perception/kws/dataset.h"
 #include "perception/kws/embedding_wake_word.h"
+#include "kws/spoken_clip.h"
 
 namespace kws = marvin::perception::kws;
 namespace perception = marvin::perception;
@@ -27,19 +28,7 @@ std::shared_ptr<const kws::EmbeddingModels> front_end() {
 
 // Speech with a second of quiet before and 1.5 s after, over faint noise.
 std::vector<std::int16_t> spoken_with_pauses(const std::string& text, const std::string& voice) {
-  std::vector<float> a(16000, 0.0f);
-  std::vector<float> s = kws::synthesize(text, voice, 160, 50);
-  float peak = 0.0f;
-  for (float v : s) peak = std::max(peak, std::fabs(v));
-  for (float& v : s) v *= 0.5f / peak;
-  a.insert(a.end(), s.begin(), s.end());
-  a.resize(a.size() + 24000, 0.0f);
-  std::uint32_t state = 12345;
-  for (float& v : a) {
-    state = state * 1664525u + 1013904223u;
-    v += 1e-3f * (static_cast<float>(state >> 8) / 16777216.0f - 0.5f);
-  }
-  return marvin::audio::to_pcm16(a);
+  return kws::testing::spoken_clip(text, voice, 24000, 1e-3f);
 }
 
 std::vector<perception::WakeWordDetection> detections(const std::vector<std::int16_t>& pcm) {

@@ -118,11 +118,13 @@ TEST_CASE("a SIP port taken before baresip binds it: new ports, said in the log,
   CHECK(marvin.handed_out);
   const int port = marvin.phone.baresip().sip_port();
   CHECK(port != held.port());
-  CHECK(marvin.phone.baresip().port_changes() == 1);
+  // At least one move: another program on this machine may take the next port too.
+  CHECK(marvin.phone.baresip().port_changes() >= 1);
   CHECK(marvin.phone.baresip().restarts() == 0);  // nothing was lost: no "service restarted"
   CHECK(log.text().find("SIP port " + std::to_string(held.port()) +
-                        " is taken by another program; now port " + std::to_string(port) +
-                        " (new ports 1 of at most 5)") != std::string::npos);
+                        " is taken by another program; now port ") != std::string::npos);
+  CHECK(log.text().find("now port " + std::to_string(port) + " (new ports ") !=
+        std::string::npos);
   CHECK(marvin.phone.dial(peer.uri()) == "");
   std::size_t seen = 0;
   REQUIRE(marvin.events.wait(
@@ -138,7 +140,7 @@ TEST_CASE("a control port taken before baresip binds it: new control port, the p
   marvin.phone.start();
   REQUIRE(marvin.phone.wait_ready(kWait));
   CHECK(marvin.phone.baresip().ctrl_port() != held.port());
-  CHECK(marvin.phone.baresip().port_changes() == 1);
+  CHECK(marvin.phone.baresip().port_changes() >= 1);  // another program may take the next one too
   CHECK(log.text().find("control port " + std::to_string(held.port()) +
                         " is taken by another program") != std::string::npos);
   // The control socket answers (it is baresip's, not the other program's).
