@@ -5,7 +5,7 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
@@ -13,6 +13,8 @@
 
 #include <cerrno>
 #include <cstring>
+#include <future>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <vector>
@@ -59,11 +61,28 @@ void Baresip::start() {
   if (::pipe2(wake_pipe_, O_CLOEXEC | O_NONBLOCK) != 0) {
     throw std::runtime_error("phone: cannot create a pipe: " + std::string(std::strerror(errno)));
   }
-  {
-    std::lock_guard lock(mutex_);
-    spawn();
+  // The first child is spawned by the supervisor thread, like every restart: the child's
+  // parent-death signal (spawn()) is tied to the thread that forked it, and this thread lives
+  // exactly as long as the supervision. start() still throws what spawning threw.
+  auto spawned = std::make_shared<std::promise<void>>();  // shared: set after start() may return
+  std::future<void> result = spawned->get_future();
+  thread_ = std::thread([this, spawned] {
+    try {
+      std::lock_guard lock(mutex_);
+      spawn();
+    } catch (...) {
+      spawned->set_exception(std::current_exception());
+      return;
+    }
+    spawned->set_value();
+    run();
+  });
+  try {
+    result.get();
+  } catch (...) {
+    thread_.join();
+    throw;
   }
-  thread_ = std::thread([this] { run(); });
 }
 
 void Baresip::choose_ports() {
@@ -82,25 +101,61 @@ void Baresip::spawn() {
   if (::pipe2(out, O_CLOEXEC) != 0) {
     throw std::runtime_error("phone: cannot create a pipe: " + std::string(std::strerror(errno)));
   }
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-  posix_spawn_file_actions_adddup2(&actions, out[1], STDERR_FILENO);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  // exec failures come back through this pipe (closed by a successful exec: EOF).
+  int exec_error[2];
+  if (::pipe2(exec_error, O_CLOEXEC) != 0) {
+    const int saved = errno;
+    ::close(out[0]);
+    ::close(out[1]);
+    throw std::runtime_error("phone: cannot create a pipe: " + std::string(std::strerror(saved)));
+  }
   std::filesystem::path work = settings_.record_dir.empty() ? config_dir_ : settings_.record_dir;
   std::filesystem::create_directories(work);
-  posix_spawn_file_actions_addchdir_np(&actions, work.c_str());
+  const std::string work_dir = work.string();
   const std::string program = settings_.baresip_program.string();
   const std::string dir = config_dir_.string();
   std::vector<char*> argv{const_cast<char*>(program.c_str()), const_cast<char*>("-f"),
                           const_cast<char*>(dir.c_str()), nullptr};
-  pid_t pid = -1;
-  const int error = ::posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
+  const pid_t parent = ::getpid();
+  // fork + exec rather than posix_spawn: only a forked child can ask the kernel to end it
+  // when its parent dies (PR_SET_PDEATHSIG), so a Marvin killed with SIGKILL leaves no
+  // baresip behind holding its ports. Between fork and exec the child calls only
+  // async-signal-safe functions (the parent has other threads).
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int saved = errno;
+    for (int fd : {out[0], out[1], exec_error[0], exec_error[1]}) ::close(fd);
+    throw std::runtime_error("phone: cannot start " + program + ": " + std::strerror(saved));
+  }
+  if (pid == 0) {
+    int failed = 0;
+    const int null_fd = ::open("/dev/null", O_RDONLY);
+    if (null_fd < 0 || ::dup2(null_fd, STDIN_FILENO) < 0 || ::dup2(out[1], STDOUT_FILENO) < 0 ||
+        ::dup2(out[1], STDERR_FILENO) < 0 || ::chdir(work_dir.c_str()) != 0 ||
+        ::prctl(PR_SET_PDEATHSIG, SIGTERM) != 0) {
+      failed = errno;
+    } else if (::getppid() != parent) {
+      ::_exit(0);  // the parent died before the signal was set up
+    } else {
+      ::execve(program.c_str(), argv.data(), environ);
+      failed = errno;
+    }
+    [[maybe_unused]] auto written = ::write(exec_error[1], &failed, sizeof failed);
+    ::_exit(127);
+  }
   ::close(out[1]);
-  if (error != 0) {
+  ::close(exec_error[1]);
+  int failed = 0;
+  ssize_t got;
+  do {
+    got = ::read(exec_error[0], &failed, sizeof failed);
+  } while (got < 0 && errno == EINTR);
+  ::close(exec_error[0]);
+  if (got == static_cast<ssize_t>(sizeof failed)) {
     ::close(out[0]);
-    throw std::runtime_error("phone: cannot start " + program + ": " + std::strerror(error));
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    throw std::runtime_error("phone: cannot start " + program + ": " + std::strerror(failed));
   }
   pid_ = pid;
   out_fd_ = out[0];

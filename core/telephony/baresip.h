@@ -11,7 +11,8 @@
 // when the child could not bind them because another program took them between the choice
 // and the start ("Address already in use"): at most kMaxPortRetries times in a row, each
 // logged. Events are handed to the handler on the supervisor thread; malformed frames and
-// JSON are logged (component "phone") and ignored.
+// JSON are logged (component "phone") and ignored. The child gets SIGTERM from the kernel
+// when the supervisor thread ends without stop() (Marvin killed): no baresip outlives us.
 #pragma once
 
 #include <sys/types.h>
@@ -101,7 +102,7 @@ class Baresip {
   // After a child that was never ready exited: when it lost a port we chose, choose new
   // ones (and rewrite the configuration). False: restart as before.
   bool new_ports_after_loss(int status);
-  void spawn();          // supervisor thread (and start()): a new child
+  void spawn();          // supervisor thread only: a new child
   void on_child_exit();  // supervisor thread
   void connect_control();
   void close_control();

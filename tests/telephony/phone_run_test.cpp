@@ -4,8 +4,12 @@
 // of the transcript or a peer's event (generous timeouts, only reached on failure).
 #include <doctest/doctest.h>
 #include <dirent.h>
+#include <poll.h>
 #include <signal.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -244,6 +248,48 @@ TEST_CASE("run --sim: a killed baresip is restarted and the next call works") {
   m.say("hang up");
   m.expect("OK, I hung up. The call with Anna has ended.");
   CHECK(test_support::exit_code(m.process.finish()) == 0);
+}
+
+// The baresip children of `parent`, whatever their configuration (Marvin's and the
+// simulated phone's).
+std::vector<pid_t> baresip_children(pid_t parent) {
+  std::vector<pid_t> found;
+  DIR* proc = ::opendir("/proc");
+  REQUIRE(proc != nullptr);
+  while (dirent* entry = ::readdir(proc)) {
+    const std::string name = entry->d_name;
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream stat("/proc/" + name + "/stat");
+    std::string pid, comm, state;
+    pid_t ppid = 0;
+    stat >> pid >> comm >> state >> ppid;
+    if (ppid == parent && comm == "(baresip)") found.push_back(static_cast<pid_t>(std::stol(name)));
+  }
+  ::closedir(proc);
+  return found;
+}
+
+// True when `pid` has ended within `timeout` (waits on a pidfd: no polling by sleep).
+bool process_ends(pid_t pid, std::chrono::milliseconds timeout) {
+  const int fd = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
+  if (fd < 0) return errno == ESRCH;  // already gone
+  pollfd p{fd, POLLIN, 0};
+  const bool ended = ::poll(&p, 1, static_cast<int>(timeout.count())) == 1;
+  ::close(fd);
+  return ended;
+}
+
+TEST_CASE("run --sim killed with SIGKILL: its baresip children end with it") {
+  test_support::TempDir data;
+  Marvin m(data);
+  const std::vector<pid_t> children = baresip_children(m.process.pid());
+  REQUIRE(children.size() >= 1);
+  REQUIRE(marvin_baresip(m.process.pid()) > 0);
+  m.process.stop(SIGKILL);
+  for (pid_t child : children) {
+    CAPTURE(child);
+    CHECK(process_ends(child, testing::kWait));
+  }
 }
 
 TEST_CASE("run --sim --phone-config: a refused registration is said, and calls say why not") {
