@@ -4,6 +4,7 @@
 // voice commands use it), and the example world's floor plan. Refusals name the field and
 // change nothing.
 #include <doctest/doctest.h>
+#include <sys/stat.h>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -304,7 +305,9 @@ TEST_CASE("web: an intruder photo is served by event id, only from the photo fol
   const std::string secret = jpeg_bytes(7) + "SECRET-BYTES";
   test_support::write_text(site.tmp / "data/secret.jpg", secret);
   fs::create_symlink(site.tmp / "data/secret.jpg", folder / "link.jpg");
+  fs::create_directory_symlink(site.tmp / "data", folder / "outside");
   test_support::write_text(folder / "notes.jpg", "not a photo at all");
+  REQUIRE(::mkfifo((folder / "pipe.jpg").c_str(), 0600) == 0);  // must not block the server
 
   const std::int64_t good = log_intruder(site.store, (folder / "photo-1.jpg").string());
   Browser b = site.logged_in();
@@ -328,7 +331,8 @@ TEST_CASE("web: an intruder photo is served by event id, only from the photo fol
   SUBCASE("an event whose photo lies outside the folder is refused, naming neither path nor bytes") {
     for (const std::string& named :
          {(site.tmp / "data/secret.jpg").string(), (folder / "../../secret.jpg").string(),
-          (folder / "link.jpg").string(), (folder / "notes.jpg").string()}) {
+          (folder / "link.jpg").string(), (folder / "outside/secret.jpg").string(),
+          (folder / "notes.jpg").string(), (folder / "pipe.jpg").string()}) {
       CAPTURE(named);
       const std::int64_t id = log_intruder(site.store, named);
       Reply r = b.send("GET", photo_path(id));
