@@ -2,10 +2,14 @@
 // chosen at run time, so the library still builds and runs on CPUs without it (and on ARM,
 // where the kernels compile to "unavailable" stubs).
 //
-// Blocking: kRows rows x kBlocks blocks of 8 output channels in registers (AVX2 has 16 vector
-// registers: the accumulators, one weight vector per block, the broadcast activations and a
-// temporary). Per group of inputs: kBlocks weight loads and kRows broadcasts feed
-// kRows x kBlocks multiply-adds.
+// Blocking: kRows rows x kBlocks = 2 blocks of 8 output channels in registers. AVX2 has 16
+// vector registers: the accumulators, one weight vector per block, the broadcast activations,
+// a temporary and (bytes) the vector of ones. int16: 6 rows (12 + 2 + 1 + 1 = 16); bytes:
+// 4 rows (8 + 2 + 1 + 1 + 1; 6 rows spilt an accumulator and was no faster). Per group of
+// inputs, 2 weight loads and kRows broadcasts feed 2 x kRows multiply-adds. Measured on this
+// machine (kws_bench, AVX2 path forced): 4x2 blocks for both 118 us, 6x2 109 us, 3x3 124 us,
+// 2x4 137 us per window: the differences are near the noise of a shared machine; the bound
+// is the two multiply ports (about 600 K vpmaddwd/vpmaddubsw per window).
 #include "perception/kws/gemm_avx2.h"
 
 #include <algorithm>
@@ -85,6 +89,7 @@ struct S16x2 {
   using A = std::int16_t;
   using W = std::int16_t;
   static constexpr int kGroup = 2;
+  static constexpr int kRows = 6;  // rows per register block (see the top of the file)
   MARVIN_KWS_AVX2 static __m256i mac(__m256i acc, __m256i x, __m256i w) {
     return _mm256_add_epi32(acc, _mm256_madd_epi16(x, w));
   }
@@ -93,6 +98,7 @@ struct U8x4 {
   using A = std::uint8_t;
   using W = std::int8_t;
   static constexpr int kGroup = 4;
+  static constexpr int kRows = 4;
   // Exact for x <= 127 (gemm_avx2.h): the int16 pair sums of vpmaddubsw never saturate.
   MARVIN_KWS_AVX2 static __m256i mac(__m256i acc, __m256i x, __m256i w) {
     const __m256i pairs = _mm256_maddubs_epi16(x, w);
@@ -172,14 +178,13 @@ MARVIN_KWS_AVX2 void block256(const RowsView<typename T::A>& a, int m0,
   }
 }
 
-constexpr int kRows = 4;
 constexpr int kBlocks = 2;
 
 template <typename T, int NB>
 void blocks_of256(const RowsView<typename T::A>& a, const PackedWeights256<typename T::W>& w,
                   int b0, std::int32_t* c) {
   int m = 0;
-  for (; m + kRows <= a.rows; m += kRows) block256<T, kRows, NB>(a, m, w, b0, c);
+  for (; m + T::kRows <= a.rows; m += T::kRows) block256<T, T::kRows, NB>(a, m, w, b0, c);
   switch (a.rows - m) {
     case 5:
       block256<T, 5, NB>(a, m, w, b0, c);
