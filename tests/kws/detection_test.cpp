@@ -65,6 +65,33 @@ TEST_CASE("a synthesised \"marvin\" is detected once") {
   }
 }
 
+TEST_CASE("every int8 kernel the CPU has gives the same detections; a float spotter has none") {
+  const std::vector<std::int16_t> pcm = spoken("Marvin", "en-us");
+  std::vector<std::vector<perception::WakeWordDetection>> seen;
+  for (kws::Int8Kernel k :
+       {kws::Int8Kernel::portable, kws::Int8Kernel::avx2, kws::Int8Kernel::avx512_vnni}) {
+    if (!kws::kernel_available(k)) continue;
+    INFO("kernel " << kws::kernel_name(k));
+    kws::NeuralWakeWord detector(model(), 0.5f, kws::Precision::int8);
+    detector.spotter().set_int8_kernel(k);
+    std::vector<perception::WakeWordDetection> det;
+    for (std::size_t i = 0; i < pcm.size(); i += 1600) {
+      detector.process(std::span<const std::int16_t>(pcm).subspan(
+                           i, std::min<std::size_t>(1600, pcm.size() - i)),
+                       det);
+    }
+    REQUIRE(det.size() == 1);
+    if (!seen.empty()) {
+      CHECK(det[0].end_sample == seen[0][0].end_sample);
+      CHECK(det[0].score == seen[0][0].score);
+    }
+    seen.push_back(det);
+  }
+  kws::NeuralWakeWord float_detector(model(), 0.5f, kws::Precision::float32);
+  CHECK_THROWS_WITH_AS(float_detector.spotter().set_int8_kernel(kws::Int8Kernel::portable),
+                       doctest::Contains("this spotter runs in float"), std::logic_error);
+}
+
 TEST_CASE("sentences without the keyword are not detected") {
   CHECK(detections_in(spoken("please turn on the lights in the kitchen", "en-us")) == 0);
   CHECK(detections_in(spoken("what time is it", "en-gb-x-gbcwmd+f5")) == 0);

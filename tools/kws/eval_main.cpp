@@ -11,6 +11,8 @@
 //    A detection counts as a hit when it ends between the keyword's start and 1.25 s after
 //    its end; every other detection (including a second one for the same keyword) is a false
 //    accept.
+// 3. Real recordings (--positives, --negatives): a track of them instead of 1 and 2, the cnn
+//    spotter, the embedding head (if given) and pocketsphinx side by side, scored the same way.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -324,6 +326,29 @@ void print_embedding_rows(const ScoreLog& log, const Track& track, const std::ve
   }
 }
 
+// pocketsphinx keyphrase spotting for `keyword` over the track at each sensitivity, each in the
+// background (std::async) while the other detectors run; get() gives the detections' ends.
+std::vector<std::future<std::vector<std::int64_t>>> start_pocketsphinx(
+    const std::vector<std::int16_t>& pcm, const std::vector<float>& sensitivities, const std::string& keyword) {
+  std::vector<std::future<std::vector<std::int64_t>>> runs;
+  for (float s : sensitivities) {
+    runs.push_back(std::async(std::launch::async, [&pcm, s, keyword] {
+      perception::PocketsphinxWakeWordOptions o;
+      o.keyword = keyword;
+      o.sensitivity = s;
+      perception::PocketsphinxWakeWord ps(o);
+      std::vector<perception::WakeWordDetection> det;
+      for (std::size_t i = 0; i < pcm.size(); i += 1600) {
+        ps.process(std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), det);
+      }
+      std::vector<std::int64_t> ends;
+      for (const auto& d : det) ends.push_back(d.end_sample);
+      return ends;
+    }));
+  }
+  return runs;
+}
+
 void print_best(const char* name, const std::vector<EvalRow>& rows) {
   const EvalRow* best = nullptr;
   for (const EvalRow& r : rows) {
@@ -404,7 +429,7 @@ int main(int argc, char** argv) {
   app.add_option("--details", details_threshold,
                  "at this threshold (first --smoothing): miss rate per voice, keyword posterior "
                  "peaks, and each false accept with what was said");
-  std::string head_path, positives_dir, noise_dir;
+  std::string head_path, positives_dir, noise_dir, ps_keyword_option;
   std::vector<std::string> negative_dirs;
   std::vector<float> embedding_thresholds = {0.3f, 0.5f, 0.7f, 0.8f, 0.9f, 0.95f, 0.98f, 0.99f, 0.995f};
   app.add_option("--embedding-head", head_path,
@@ -415,6 +440,9 @@ int main(int argc, char** argv) {
                  "recordings instead of held-out synthetic voices");
   app.add_option("--negatives", negative_dirs, "real recordings of other words (folders)");
   app.add_option("--noise", noise_dir, "background noise recordings for the real track");
+  app.add_option("--ps-keyword", ps_keyword_option,
+                 "the words pocketsphinx listens for on the real track (default: the embedding "
+                 "head's keyword, else the model's)");
   CLI11_PARSE(app, argc, argv);
 
   if (!positives_dir.empty()) {
@@ -434,7 +462,14 @@ int main(int argc, char** argv) {
                   track.keywords.size(), positives_dir.c_str(), track.sentences.size());
       if (!save_track.empty()) marvin::audio::write_speech_file(save_track, pcm);
       std::printf("\n%-28s %9s %8s %6s %8s\n", "detector", "setting", "miss", "FA", "FA/h");
-      std::vector<EvalRow> head_rows, cnn_rows;
+      std::vector<EvalRow> head_rows, cnn_rows, ps_rows;
+      const kws::KwsModel model = kws::load_model(model_path);
+      // pocketsphinx listens for the keyword of the recordings: --ps-keyword, else the head's.
+      const std::string ps_keyword = !ps_keyword_option.empty() ? ps_keyword_option
+                                     : head_path.empty()        ? model.keyword
+                                                                : kws::load_head(head_path).keyword;
+      std::vector<std::future<std::vector<std::int64_t>>> ps_runs;
+      if (!no_pocketsphinx) ps_runs = start_pocketsphinx(pcm, ps_sensitivities, ps_keyword);
       if (!head_path.empty()) {
         const kws::EmbeddingHead head = kws::load_head(head_path);
         double cpu = 0.0;
@@ -443,7 +478,6 @@ int main(int argc, char** argv) {
         std::printf("(embedding head \"%s\": %.1f s of CPU for %.1f s of audio, %.2f%% of one core)\n",
                     head.keyword.c_str(), cpu, hours * 3600.0, 100.0 * cpu / (hours * 3600.0));
       }
-      const kws::KwsModel model = kws::load_model(model_path);
       {
         const Trace trace = cnn_trace(model, pcm);
         for (float th : thresholds) {
@@ -453,9 +487,21 @@ int main(int argc, char** argv) {
           cnn_rows.push_back({s.miss_rate(), s.false_accepts / hours, th});
         }
       }
+      for (std::size_t i = 0; i < ps_runs.size(); ++i) {
+        const float sens = ps_sensitivities[i];
+        try {
+          const Score s = score(ps_runs[i].get(), track);
+          std::printf("%-28s %9.2f %7.2f%% %6d %8.2f\n", ("pocketsphinx \"" + ps_keyword + "\"").c_str(),
+                      static_cast<double>(sens), 100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+          ps_rows.push_back({s.miss_rate(), s.false_accepts / hours, sens});
+        } catch (const std::exception& e) {  // e.g. a keyword word missing from its dictionary
+          std::printf("pocketsphinx \"%s\" %.2f: %s\n", ps_keyword.c_str(), static_cast<double>(sens), e.what());
+        }
+      }
       std::printf("\noperating point (lowest miss rate with under 1 false accept per hour):\n");
       if (!head_path.empty()) print_best("embedding", head_rows);
       print_best("cnn", cnn_rows);
+      if (!ps_rows.empty()) print_best("pocketsphinx", ps_rows);
       std::printf("(%.2f h of audio: one false accept is %.2f FA/h)\n", hours, 1.0 / hours);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "marvin-kws-eval: %s\n", e.what());
@@ -518,22 +564,7 @@ int main(int argc, char** argv) {
 
     // pocketsphinx in the background while the neural detector runs.
     std::vector<std::future<std::vector<std::int64_t>>> ps_runs;
-    if (!no_pocketsphinx) {
-      for (float s : ps_sensitivities) {
-        ps_runs.push_back(std::async(std::launch::async, [&pcm, s] {
-          perception::PocketsphinxWakeWordOptions o;
-          o.sensitivity = s;
-          perception::PocketsphinxWakeWord ps(o);
-          std::vector<perception::WakeWordDetection> det;
-          for (std::size_t i = 0; i < pcm.size(); i += 1600) {
-            ps.process(std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), det);
-          }
-          std::vector<std::int64_t> ends;
-          for (const auto& d : det) ends.push_back(d.end_sample);
-          return ends;
-        }));
-      }
-    }
+    if (!no_pocketsphinx) ps_runs = start_pocketsphinx(pcm, ps_sensitivities, model.keyword);
 
     const auto neural_start = Clock::now();
     const Trace trace = cnn_trace(model, pcm);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "perception/kws/features.h"
 
@@ -46,8 +47,7 @@ KeywordSpotter::KeywordSpotter(const KwsModel& model, Precision precision)
     : norm_(model.normalisation),
       hop_frames_(model.features.hop_frames),
       hop_samples_(model.features.log_mel.sample_rate * model.features.log_mel.hop_ms / 1000),
-      window_samples_(model.features.log_mel.sample_rate * model.features.log_mel.window_ms /
-                      1000),
+      window_samples_(model.features.log_mel.sample_rate * model.features.log_mel.window_ms / 1000),
       precision_(precision),
       decider_(model.detection.smoothing_windows, model.detection.threshold,
                refractory_windows(model)),
@@ -62,6 +62,14 @@ KeywordSpotter::KeywordSpotter(const KwsModel& model, Precision precision)
 }
 
 KeywordSpotter::~KeywordSpotter() = default;
+
+void KeywordSpotter::set_int8_kernel(Int8Kernel kernel) {
+  if (!int8_net_) {
+    throw std::logic_error(std::string("kws KeywordSpotter: the ") + kernel_name(kernel) +
+                           " kernel is int8, but this spotter runs in float");
+  }
+  int8_net_->set_kernel(kernel);
+}
 
 void KeywordSpotter::reset() {
   decider_.reset();

@@ -74,6 +74,12 @@ class KeywordSpotter {
   std::int64_t windows_run() const { return windows_run_; }
   void reset();
 
+  // Chooses the int8 kernel (the fastest the CPU has by default; all give the same results),
+  // so a benchmark can measure what a CPU without it would spend. Throws std::invalid_argument
+  // for a kernel this CPU lacks (Int8Inference::set_kernel), std::logic_error for a spotter
+  // running in float.
+  void set_int8_kernel(Int8Kernel kernel);
+
   // The network on one 96-frame window (posteriors of all 4 classes), bypassing the state.
   void classify_window(std::span<const float> frames, std::span<float> probabilities);
 
@@ -89,8 +95,8 @@ class KeywordSpotter {
   std::unique_ptr<FloatInference> float_net_;
   std::unique_ptr<Int8Inference> int8_net_;
   DetectionDecider decider_;
-  std::vector<float> ring_;      // kWindowFrames frames, circular
-  std::vector<float> window_;    // the window in order
+  std::vector<float> ring_;    // kWindowFrames frames, circular
+  std::vector<float> window_;  // the window in order
   std::vector<float> input_;
   std::int64_t next_frame_ = 0;  // stream index of the next expected frame
   std::int64_t stored_ = 0;      // frames in the ring (up to kWindowFrames)

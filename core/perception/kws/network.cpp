@@ -1,13 +1,13 @@
 #include "perception/kws/network.h"
 
-#include "perception/kws/im2col.h"
-
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
 #include <stdexcept>
+
+#include "perception/kws/im2col.h"
 
 namespace marvin::perception::kws {
 
@@ -44,11 +44,16 @@ void check_network(const FloatNetwork& net) {
 
 const char* class_name(int cls) {
   switch (cls) {
-    case 0: return "keyword";
-    case 1: return "unknown";
-    case 2: return "silence";
-    case 3: return "noise";
-    default: return "?";
+    case 0:
+      return "keyword";
+    case 1:
+      return "unknown";
+    case 2:
+      return "silence";
+    case 3:
+      return "noise";
+    default:
+      return "?";
   }
 }
 
@@ -103,8 +108,8 @@ FloatLayer dequantize_layer(const QuantizedLayer& layer) {
   for (int o = 0; o < layer.out; ++o) {
     for (int i = 0; i < layer.in; ++i) {
       const std::size_t k = static_cast<std::size_t>(o) * layer.in + i;
-      f.weights[k] = static_cast<float>(layer.weights[k]) *
-                     layer.weight_scales[static_cast<std::size_t>(o)];
+      f.weights[k] =
+          static_cast<float>(layer.weights[k]) * layer.weight_scales[static_cast<std::size_t>(o)];
     }
   }
   return f;
@@ -217,8 +222,8 @@ std::int16_t quantize_value(float v, float inv_scale, bool relu) {
 
 }  // namespace
 
-void gemm_s16_portable(const std::int16_t* a, int rows, const std::int16_t* w, int cols,
-                       int depth, std::int32_t* c) {
+void gemm_s16_portable(const std::int16_t* a, int rows, const std::int16_t* w, int cols, int depth,
+                       std::int32_t* c) {
   for (int m = 0; m < rows; ++m) {
     const std::int16_t* arow = a + static_cast<std::ptrdiff_t>(m) * depth;
     for (int j = 0; j < cols; ++j) {
@@ -232,18 +237,24 @@ void gemm_s16_portable(const std::int16_t* a, int rows, const std::int16_t* w, i
 
 const char* kernel_name(Int8Kernel kernel) {
   switch (kernel) {
-    case Int8Kernel::portable: return "portable";
-    case Int8Kernel::avx2: return "AVX2";
-    case Int8Kernel::avx512_vnni: return "AVX-512 VNNI";
+    case Int8Kernel::portable:
+      return "portable";
+    case Int8Kernel::avx2:
+      return "AVX2";
+    case Int8Kernel::avx512_vnni:
+      return "AVX-512 VNNI";
   }
   return "?";
 }
 
 bool kernel_available(Int8Kernel kernel) {
   switch (kernel) {
-    case Int8Kernel::portable: return true;
-    case Int8Kernel::avx2: return gemm_s16_avx2_available();
-    case Int8Kernel::avx512_vnni: return gemm_s16_avx512_available();
+    case Int8Kernel::portable:
+      return true;
+    case Int8Kernel::avx2:
+      return gemm_s16_avx2_available();
+    case Int8Kernel::avx512_vnni:
+      return gemm_s16_avx512_available();
   }
   return false;
 }
@@ -256,8 +267,8 @@ Int8Kernel best_int8_kernel() {
 }
 
 Int8Inference::Int8Inference(const QuantizedNetwork& net) : scales_(net.scales) {
-  const float act_in[5] = {net.scales.input, net.scales.conv1, net.scales.conv2,
-                           net.scales.linear, net.scales.dense};
+  const float act_in[5] = {net.scales.input, net.scales.conv1, net.scales.conv2, net.scales.linear,
+                           net.scales.dense};
   auto src = net.layers();
   Layer* dst[5] = {&conv1_, &conv2_, &linear_, &dense_, &output_};
   const int shapes[5][2] = {{kConv1Maps, kConv1In},
@@ -275,8 +286,8 @@ Int8Inference::Int8Inference(const QuantizedNetwork& net) : scales_(net.scales) 
                                   " has the wrong shape");
     }
     if (!(act_in[i] > 0.0f)) {
-      throw std::invalid_argument("kws Int8Inference: activation scale " +
-                                  std::to_string(i) + " must be positive");
+      throw std::invalid_argument("kws Int8Inference: activation scale " + std::to_string(i) +
+                                  " must be positive");
     }
     Layer& l = *dst[i];
     l.out = q.out;
@@ -327,9 +338,17 @@ void Int8Inference::set_kernel(Int8Kernel kernel) {
     conv2_bytes_ = detail::pack_weights_s8(conv2_.weights.data(), conv2_.out, conv2_.in);
     a1_bytes_.resize(a1_.size());
   }
-  if (kernel != Int8Kernel::avx512_vnni && cols1_.empty()) {
-    // The AVX2 and portable kernels read im2col copies (about 300 KB); the AVX-512 kernel
-    // reads the frames in place, so a spotter on such a CPU never allocates them.
+  if (kernel == Int8Kernel::avx2 && conv2_avx2_.data.empty()) {
+    for (Layer* l : {&linear_, &dense_, &output_}) {
+      l->packed256 = detail::pack_weights_s16_avx2(l->weights.data(), l->out, l->in);
+    }
+    conv1_avx2_ = detail::pack_weights_s16_avx2(conv1_.weights.data(), conv1_.out, conv1_.in);
+    conv2_avx2_ = detail::pack_weights_s8_avx2(conv2_.weights.data(), conv2_.out, conv2_.in);
+    a1_bytes_.resize(a1_.size());
+  }
+  if (kernel == Int8Kernel::portable && cols1_.empty()) {
+    // The portable kernel reads im2col copies (about 300 KB); the vector kernels read the
+    // frames in place, so a spotter on such a CPU never allocates them.
     cols1_.resize(static_cast<std::size_t>(kConv1OutTime * kConv1OutFreq * kConv1In));
     cols2_.resize(static_cast<std::size_t>(kConv2OutTime * kConv2OutFreq * kConv2In));
   }
@@ -338,11 +357,7 @@ void Int8Inference::set_kernel(Int8Kernel kernel) {
 
 void Int8Inference::gemm(const std::int16_t* a, int rows, const Layer& layer,
                          std::int32_t* c) const {
-  if (kernel_ == Int8Kernel::avx2) {
-    gemm_s16_avx2(a, rows, layer.weights.data(), layer.out, layer.in, c);
-  } else {
-    gemm_s16_portable(a, rows, layer.weights.data(), layer.out, layer.in, c);
-  }
+  gemm_s16_portable(a, rows, layer.weights.data(), layer.out, layer.in, c);
 }
 
 void Int8Inference::run(std::span<const float> input, std::span<float> probabilities) {
@@ -352,6 +367,10 @@ void Int8Inference::run(std::span<const float> input, std::span<float> probabili
   }
   if (kernel_ == Int8Kernel::avx512_vnni) {
     run_avx512(input, probabilities);
+    return;
+  }
+  if (kernel_ == Int8Kernel::avx2) {
+    run_avx2(input, probabilities);
     return;
   }
   // Input -> int8, straight into conv1's columns (im2col on the quantised frame).
@@ -374,8 +393,8 @@ void Int8Inference::run(std::span<const float> input, std::span<float> probabili
         const std::int32_t m =
             std::max(r0[ch], std::max(r0[ch + kConv1Maps], r0[ch + 2 * kConv1Maps]));
         const std::size_t c = static_cast<std::size_t>(ch);
-        out[ch] = quantize_value(static_cast<float>(m + conv1_.bias[c]) * conv1_.to_real[c], inv1,
-                                 true);
+        out[ch] =
+            quantize_value(static_cast<float>(m + conv1_.bias[c]) * conv1_.to_real[c], inv1, true);
       }
     }
   }
@@ -396,8 +415,8 @@ void Int8Inference::run(std::span<const float> input, std::span<float> probabili
     gemm(in, 1, layer, acc_.data());
     const float inv = 1.0f / out_scale;
     for (std::size_t o = 0; o < static_cast<std::size_t>(layer.out); ++o) {
-      out[o] = quantize_value(static_cast<float>(acc_[o] + layer.bias[o]) * layer.to_real[o], inv,
-                              relu);
+      out[o] =
+          quantize_value(static_cast<float>(acc_[o] + layer.bias[o]) * layer.to_real[o], inv, relu);
     }
   };
   fc(linear_, a2_.data(), l_.data(), scales_.linear, false);
@@ -417,8 +436,8 @@ void Int8Inference::run_avx512(std::span<const float> input, std::span<float> pr
   detail::quantize_input_u8_avx512(input.data(), kInputSize, 1.0f / scales_.input, qin);
   constexpr int p1 = kConv1OutTime * kConv1OutFreq;
   detail::gemm_avx512_packed(
-      detail::RowsView<std::uint8_t>{qin, conv1_rows_.data(), p1, kConv1Freq, kBins},
-      conv1_bytes_, acc_.data());
+      detail::RowsView<std::uint8_t>{qin, conv1_rows_.data(), p1, kConv1Freq, kBins}, conv1_bytes_,
+      acc_.data());
   // Pooling: the 3 frequencies pooled together are consecutive rows (33 = 11 x 3 per frame).
   // The +128 shift adds the same 128 * sum(w) to all three, so taking it out after the max
   // (in the bias) is exact. After the ReLU every value is 0..127: conv2 takes them as bytes.
@@ -438,14 +457,52 @@ void Int8Inference::run_avx512(std::span<const float> input, std::span<float> pr
     detail::gemm_avx512_packed(
         detail::RowsView<std::int16_t>{in, &first_row, 1, layer.in, layer.in}, layer.packed,
         acc_.data());
-    detail::requantize_avx512(acc_.data(), 1, 1, layer.out, layer.bias.data(),
-                              layer.to_real.data(), 1.0f / out_scale, relu, out);
+    detail::requantize_avx512(acc_.data(), 1, 1, layer.out, layer.bias.data(), layer.to_real.data(),
+                              1.0f / out_scale, relu, out);
   };
   fc(linear_, a2_.data(), l_.data(), scales_.linear, false);
   fc(dense_, l_.data(), h_.data(), scales_.dense, true);
   detail::gemm_avx512_packed(
       detail::RowsView<std::int16_t>{h_.data(), &first_row, 1, kDense, kDense}, output_.packed,
       acc_.data());
+  for (std::size_t o = 0; o < static_cast<std::size_t>(kClasses); ++o) {
+    probabilities[o] = static_cast<float>(acc_[o] + output_.bias[o]) * output_.to_real[o];
+  }
+  softmax(probabilities);
+}
+
+// The same arithmetic as run() with the AVX2 kernels reading the convolutions' inputs in
+// place and vectorised requantisation: conv1 and the dense layers on int16 (vpmaddwd), conv2
+// on bytes (vpmaddubsw; its input is 0..127, so the int16 pair sums cannot saturate).
+void Int8Inference::run_avx2(std::span<const float> input, std::span<float> probabilities) {
+  std::int16_t qin[kInputSize];
+  detail::quantize_input_avx2(input.data(), kInputSize, 1.0f / scales_.input, qin);
+  constexpr int p1 = kConv1OutTime * kConv1OutFreq;
+  detail::gemm_avx2_packed(
+      detail::RowsView<std::int16_t>{qin, conv1_rows_.data(), p1, kConv1Freq, kBins}, conv1_avx2_,
+      acc_.data());
+  detail::requantize_relu_avx2(acc_.data(), kConv1OutTime * kPooledFreq, kPoolFreq, kConv1Maps,
+                               conv1_.bias.data(), conv1_.to_real.data(), 1.0f / scales_.conv1,
+                               a1_bytes_.data());
+  constexpr int p2 = kConv2OutTime * kConv2OutFreq;
+  detail::gemm_avx2_packed(
+      detail::RowsView<std::uint8_t>{a1_bytes_.data(), conv2_rows_.data(), p2,
+                                     kConv2Freq * kConv1Maps, kPooledFreq * kConv1Maps},
+      conv2_avx2_, acc_.data());
+  detail::requantize_avx2(acc_.data(), p2, 1, kConv2Maps, conv2_.bias.data(), conv2_.to_real.data(),
+                          1.0f / scales_.conv2, true, a2_.data());
+  const std::int32_t first_row = 0;
+  auto fc = [&](const Layer& layer, const std::int16_t* in, std::int16_t* out, float out_scale,
+                bool relu) {
+    detail::gemm_avx2_packed(detail::RowsView<std::int16_t>{in, &first_row, 1, layer.in, layer.in},
+                             layer.packed256, acc_.data());
+    detail::requantize_avx2(acc_.data(), 1, 1, layer.out, layer.bias.data(), layer.to_real.data(),
+                            1.0f / out_scale, relu, out);
+  };
+  fc(linear_, a2_.data(), l_.data(), scales_.linear, false);
+  fc(dense_, l_.data(), h_.data(), scales_.dense, true);
+  detail::gemm_avx2_packed(detail::RowsView<std::int16_t>{h_.data(), &first_row, 1, kDense, kDense},
+                           output_.packed256, acc_.data());
   for (std::size_t o = 0; o < static_cast<std::size_t>(kClasses); ++o) {
     probabilities[o] = static_cast<float>(acc_[o] + output_.bias[o]) * output_.to_real[o];
   }

@@ -32,13 +32,14 @@
 #include <string>
 #include <vector>
 
+#include "perception/kws/gemm_avx2.h"
 #include "perception/kws/gemm_avx512.h"
 
 namespace marvin::perception::kws {
 
 // Shapes (fixed by the architecture).
-inline constexpr int kInputFrames = 32;       // network input frames (after averaging)
-inline constexpr int kFramesPerInput = 3;     // log-mel frames averaged into one input frame
+inline constexpr int kInputFrames = 32;    // network input frames (after averaging)
+inline constexpr int kFramesPerInput = 3;  // log-mel frames averaged into one input frame
 inline constexpr int kWindowFrames = kInputFrames * 3;  // 96 log-mel frames per window
 inline constexpr int kBins = 40;
 inline constexpr int kConv1Time = 20, kConv1Freq = 8, kConv1Maps = 64;
@@ -47,14 +48,14 @@ inline constexpr int kConv1OutTime = kInputFrames - kConv1Time + 1;  // 13
 inline constexpr int kConv1OutFreq = kBins - kConv1Freq + 1;         // 33
 inline constexpr int kPooledFreq = kConv1OutFreq / kPoolFreq;        // 11
 inline constexpr int kConv2Time = 10, kConv2Freq = 4, kConv2Maps = 64;
-inline constexpr int kConv2OutTime = kConv1OutTime - kConv2Time + 1;  // 4
-inline constexpr int kConv2OutFreq = kPooledFreq - kConv2Freq + 1;    // 8
+inline constexpr int kConv2OutTime = kConv1OutTime - kConv2Time + 1;      // 4
+inline constexpr int kConv2OutFreq = kPooledFreq - kConv2Freq + 1;        // 8
 inline constexpr int kFlat = kConv2OutTime * kConv2OutFreq * kConv2Maps;  // 2048
 inline constexpr int kLinear = 32;
 inline constexpr int kDense = 128;
 inline constexpr int kClasses = 4;
-inline constexpr int kInputSize = kInputFrames * kBins;  // 1280
-inline constexpr int kConv1In = kConv1Time * kConv1Freq;              // 160
+inline constexpr int kInputSize = kInputFrames * kBins;                // 1280
+inline constexpr int kConv1In = kConv1Time * kConv1Freq;               // 160
 inline constexpr int kConv2In = kConv2Time * kConv2Freq * kConv1Maps;  // 2560
 
 enum class KwsClass : int { keyword = 0, unknown = 1, silence = 2, noise = 3 };
@@ -150,7 +151,9 @@ Int8Kernel best_int8_kernel();
 
 // Runs the int8 network. The input is quantised with scales.input; everything after it is
 // int8 x int8 -> int32. Uses the fastest kernel the CPU has (AVX-512 VNNI, else AVX2, else
-// portable loops); all give bit-identical results. Holds its scratch buffers and the weights
+// portable loops); all give bit-identical results. The two vector paths share one plan:
+// weights packed once for the kernel, im2col fused, conv2 on bytes (gemm_avx512.h,
+// gemm_avx2.h). Holds its scratch buffers and the weights
 // packed for its kernel: nothing is allocated per call. Not thread-safe; one per thread.
 class Int8Inference {
  public:
@@ -176,9 +179,11 @@ class Int8Inference {
     std::vector<std::int32_t> bias;     // in accumulator units
     std::vector<float> to_real;         // accumulator -> real value, per output channel
     detail::PackedS16 packed;           // AVX-512 kernel, dense layers (convs: below)
+    detail::Packed256S16 packed256;     // AVX2 kernel, dense layers (convs: below)
   };
   void gemm(const std::int16_t* a, int rows, const Layer& layer, std::int32_t* c) const;
   void run_avx512(std::span<const float> input, std::span<float> probabilities);
+  void run_avx2(std::span<const float> input, std::span<float> probabilities);
 
   Layer conv1_, conv2_, linear_, dense_, output_;
   ActivationScales scales_;
@@ -192,25 +197,33 @@ class Int8Inference {
   detail::PackedS8 conv1_bytes_, conv2_bytes_;
   std::vector<std::int32_t> conv1_shifted_bias_;
   std::vector<std::uint8_t> a1_bytes_;
+  // AVX2 path: conv1 on int16 (its signed input would saturate vpmaddubsw), conv2 on bytes
+  // (a1_bytes_, 0..127), both packed once.
+  detail::Packed256S16 conv1_avx2_;
+  detail::Packed256S8 conv2_avx2_;
 };
 
 // The int8 x int8 -> int32 matrix kernels of Int8Inference, one per Int8Kernel:
 // c[m*cols + j] = sum_k a[m*depth + k] * w[j*depth + k], for m < rows, j < cols. All take
-// any sizes (the AVX2 kernel does what is left over from blocks of 4 columns and 16 inputs
-// in scalar code).
-void gemm_s16_portable(const std::int16_t* a, int rows, const std::int16_t* w, int cols,
-                       int depth, std::int32_t* c);
+// any sizes (the vector kernels pad the packed weights to whole groups and blocks).
+void gemm_s16_portable(const std::int16_t* a, int rows, const std::int16_t* w, int cols, int depth,
+                       std::int32_t* c);
 bool gemm_s16_avx2_available();
+// Packs `w` on every call (Int8Inference packs once); throws std::logic_error if not built.
 void gemm_s16_avx2(const std::int16_t* a, int rows, const std::int16_t* w, int cols, int depth,
                    std::int32_t* c);
+// Bytes x int8 with vpmaddubsw: exact only for activations 0..127 (gemm_avx2.h says why).
+// Int8Inference uses it for conv2, whose input is ReLU'd and clamped to 127.
+void gemm_u8s8_avx2(const std::uint8_t* a, int rows, const std::int16_t* w, int cols, int depth,
+                    std::int32_t* c);
 bool gemm_s16_avx512_available();
 // Packs `w` on every call (Int8Inference packs once); throws std::logic_error if not built.
 void gemm_s16_avx512(const std::int16_t* a, int rows, const std::int16_t* w, int cols, int depth,
                      std::int32_t* c);
 // The same for activations that are never negative (after a ReLU), held as bytes 0..255:
 // twice the multiply-adds per instruction. Int8Inference uses it for conv2.
-void gemm_u8s8_avx512(const std::uint8_t* a, int rows, const std::int16_t* w, int cols,
-                      int depth, std::int32_t* c);
+void gemm_u8s8_avx512(const std::uint8_t* a, int rows, const std::int16_t* w, int cols, int depth,
+                      std::int32_t* c);
 
 // Softmax in place.
 void softmax(std::span<float> values);
