@@ -9,7 +9,7 @@
 #include <string>
 
 #include "perception/kws/embedding_head.h"
-#include "perception/kws/head_trainer.h"
+#include "kws/training/head_trainer.h"
 #include "perception/kws/model_file.h"
 
 namespace kws = marvin::perception::kws;

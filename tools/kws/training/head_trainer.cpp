@@ -1,4 +1,4 @@
-#include "perception/kws/head_trainer.h"
+#include "kws/training/head_trainer.h"
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -52,7 +52,8 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
   head.resize(options.hidden);
   const int h = options.hidden;
   auto init = [&](std::vector<float>& w, int fan_in, float input_std) {
-    std::normal_distribution<float> d(0.0f, std::sqrt(2.0f / static_cast<float>(fan_in)) / input_std);
+    std::normal_distribution<float> d(0.0f,
+                                      std::sqrt(2.0f / static_cast<float>(fan_in)) / input_std);
     for (float& x : w) x = d(rng);
   };
   // He initialisation scaled by the inputs' spread (speech embeddings have a standard
@@ -69,8 +70,8 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
   init(head.w1, kHeadInputs, input_std);
   init(head.w2, h, 1.0f);
   init(head.w3, h, 1.0f);
-  AdamBlock a_w1(head.w1.size()), a_b1(head.b1.size()), a_w2(head.w2.size()),
-      a_b2(head.b2.size()), a_w3(head.w3.size());
+  AdamBlock a_w1(head.w1.size()), a_b1(head.b1.size()), a_w2(head.w2.size()), a_b2(head.b2.size()),
+      a_w3(head.w3.size());
   std::vector<float> b3v{0.0f};
   AdamBlock a_b3(1);
   std::vector<float> g_w1(head.w1.size()), g_b1(head.b1.size()), g_w2(head.w2.size()),
@@ -86,8 +87,9 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
     std::shuffle(order.begin(), order.end(), rng);
     // Cosine decay to 5 % of the rate, as the CNN trainer does.
     const float lr = options.learning_rate *
-                     (0.05f + 0.95f * 0.5f * (1.0f + std::cos(3.14159265f * static_cast<float>(epoch) /
-                                                              static_cast<float>(options.epochs))));
+                     (0.05f + 0.95f * 0.5f *
+                                  (1.0f + std::cos(3.14159265f * static_cast<float>(epoch) /
+                                                   static_cast<float>(options.epochs))));
     double loss_sum = 0.0;
     std::size_t seen = 0;
     for (std::size_t bi = 0; bi < batches; ++bi) {
@@ -95,7 +97,8 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
       const auto n = static_cast<Eigen::Index>(std::min(batch, order.size() - first));
       x.resize(kHeadInputs, n);
       for (Eigen::Index c = 0; c < n; ++c) {
-        const float* src = train.inputs.data() + order[first + static_cast<std::size_t>(c)] * kHeadInputs;
+        const float* src =
+            train.inputs.data() + order[first + static_cast<std::size_t>(c)] * kHeadInputs;
         for (int r = 0; r < kHeadInputs; ++r) x(r, c) = src[r];
       }
       const Eigen::Map<const HeadMatrix> w1(head.w1.data(), h, kHeadInputs);
@@ -151,7 +154,8 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
 HeadAccuracy head_accuracy(const EmbeddingHead& head, const HeadSet& set, float threshold) {
   std::size_t pos = 0, pos_ok = 0, neg = 0, neg_ok = 0;
   for (std::size_t k = 0; k < set.size(); ++k) {
-    const float s = head.score(std::span<const float>(set.inputs).subspan(k * kHeadInputs, kHeadInputs));
+    const float s =
+        head.score(std::span<const float>(set.inputs).subspan(k * kHeadInputs, kHeadInputs));
     if (set.labels[k] > 0.5f) {
       ++pos;
       pos_ok += s >= threshold ? 1 : 0;
