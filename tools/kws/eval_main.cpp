@@ -314,30 +314,46 @@ ScoreLog embedding_scores(const kws::EmbeddingHead& head, const std::vector<std:
   return log;
 }
 
-// Replays threshold and refractory period over the score log.
-std::vector<std::int64_t> embedding_ends(const ScoreLog& log, float threshold, float refractory_s) {
+// Replays threshold, the number of consecutive 80 ms scores that must reach it, and the
+// refractory period over the score log.
+std::vector<std::int64_t> embedding_ends(const ScoreLog& log, float threshold, float refractory_s,
+                                         int consecutive) {
   std::vector<std::int64_t> ends;
   const auto refractory = static_cast<std::int64_t>(refractory_s * 16000.0f);
+  int run = 0;
   for (const auto& [end, score] : log) {
-    if (score >= threshold && (ends.empty() || end - ends.back() >= refractory))
+    run = score >= threshold ? run + 1 : 0;
+    if (run >= consecutive && (ends.empty() || end - ends.back() >= refractory))
       ends.push_back(end);
   }
   return ends;
 }
 
+// --embedding-consecutive: the step counts to replay (1 = every score on its own).
+std::vector<int> g_embedding_consecutive = {1};
+
 struct EvalRow {
   double miss, fah;
   float setting;
+  int consecutive = 1;
 };
 
 void print_embedding_rows(const ScoreLog& log, const Track& track,
                           const std::vector<float>& thresholds, float refractory_s, double hours,
                           std::vector<EvalRow>& rows) {
-  for (float th : thresholds) {
-    const Score s = score(embedding_ends(log, th, refractory_s), track);
-    std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", "embedding head", static_cast<double>(th),
-                100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
-    rows.push_back({s.miss_rate(), s.false_accepts / hours, th});
+  for (int n : g_embedding_consecutive) {
+    char name[64];
+    if (n == 1) {
+      std::snprintf(name, sizeof name, "embedding head");
+    } else {
+      std::snprintf(name, sizeof name, "embedding head %d steps", n);
+    }
+    for (float th : thresholds) {
+      const Score s = score(embedding_ends(log, th, refractory_s, n), track);
+      std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", name, static_cast<double>(th),
+                  100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+      rows.push_back({s.miss_rate(), s.false_accepts / hours, th, n});
+    }
   }
 }
 
@@ -347,8 +363,9 @@ void print_best(const char* name, const std::vector<EvalRow>& rows) {
     if (r.fah < 1.0 && (!best || r.miss < best->miss)) best = &r;
   }
   if (best) {
-    std::printf("  %-13s setting %.3f: miss %.2f%%, %.2f FA/h\n", name,
-                static_cast<double>(best->setting), 100.0 * best->miss, best->fah);
+    std::printf("  %-13s setting %.3f, %d consecutive: miss %.2f%%, %.2f FA/h\n", name,
+                static_cast<double>(best->setting), best->consecutive, 100.0 * best->miss,
+                best->fah);
   } else {
     std::printf("  %-13s none of the settings stays under 1 FA/h\n", name);
   }
@@ -434,6 +451,10 @@ int main(int argc, char** argv) {
   app.add_option("--embedding-head", head_path,
                  "also evaluate the embedding wake word with this head (on the same track)");
   app.add_option("--embedding-thresholds", embedding_thresholds)->capture_default_str();
+  app.add_option("--embedding-consecutive", g_embedding_consecutive,
+                 "embedding head: scores over the threshold in N consecutive 80 ms steps for a "
+                 "detection; several values replay the one score log with each")
+      ->capture_default_str();
   app.add_option("--positives", positives_dir,
                  "real recordings of the keyword (WAV/FLAC folder): evaluate on a track of real "
                  "recordings instead of held-out synthetic voices");

@@ -157,6 +157,56 @@ kws::HeadSet stream_negatives(const std::vector<float>& audio,
   return set;
 }
 
+struct MineResult {
+  kws::HeadSet set;
+  std::size_t windows = 0, over_half = 0;
+};
+
+// Every window of 16 embeddings of `audio` (keyword-free) that `head` scores >= floor.
+MineResult mine_stream(const std::vector<float>& audio,
+                       const std::shared_ptr<const kws::EmbeddingModels>& models,
+                       const kws::EmbeddingHead& head, float floor) {
+  kws::EmbeddingStream stream(models);
+  std::vector<kws::Embedding> out;
+  std::vector<float> scaled(audio.size());
+  for (std::size_t i = 0; i < audio.size(); ++i) scaled[i] = audio[i] * 32768.0f;
+  stream.push(scaled, out);
+  MineResult r;
+  std::vector<float> in(kws::kHeadInputs);
+  for (std::size_t end = 10 + kws::kHeadEmbeddings; end <= out.size(); ++end) {
+    for (std::size_t e = 0; e < static_cast<std::size_t>(kws::kHeadEmbeddings); ++e) {
+      std::copy(out[end - kws::kHeadEmbeddings + e].begin(),
+                out[end - kws::kHeadEmbeddings + e].end(),
+                in.begin() + static_cast<std::ptrdiff_t>(e * kws::kEmbeddingSize));
+    }
+    ++r.windows;
+    const float s = head.score(in);
+    if (s >= floor) r.set.add(in, 0.0f);
+    if (s >= 0.5f) ++r.over_half;
+  }
+  return r;
+}
+
+// Recordings one after another, 0.2..1.5 s apart, over background noise at an SNR in
+// [-5, 10] dB (80 % of the time) or quiet, each at -18..-2 dBFS peak.
+std::vector<float> real_stream(const std::vector<std::vector<float>>& recordings,
+                               const std::vector<std::vector<float>>& noise_pool,
+                               std::mt19937_64& rng) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> audio;
+  for (const auto& r : recordings) {
+    std::vector<float> piece(static_cast<std::size_t>((0.2f + 1.3f * u(rng)) * 16000.0f), 0.0f);
+    const float g = level_gain(r, -18.0f + 16.0f * u(rng));
+    for (float v : r) piece.push_back(g * v);
+    const auto& noise =
+        noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+    if (u(rng) < 0.8f) kws::add_noise_at_snr(piece, noise, -5.0f + 15.0f * u(rng), rng);
+    for (float& v : piece) v = std::clamp(v, -1.0f, 1.0f);
+    audio.insert(audio.end(), piece.begin(), piece.end());
+  }
+  return audio;
+}
+
 double head_seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
@@ -196,6 +246,11 @@ int train_embedding_main(int argc, char** argv) {
   float threshold = 0.5f, refractory = 2.0f;
   bool embedding = true;
   kws::HeadTrainOptions topt;
+  std::vector<std::string> feature_files, mine_dirs;
+  std::string save_features, mine_head_path;
+  double mine_minutes = 0.0;
+  float mine_floor = 0.1f;
+  int mine_copies = 1;
   topt.epochs = 30;
   app.add_flag("--embedding", embedding, "train the embedding wake word's head (this recipe)");
   app.add_option("--keyword", keyword, "what is said (lower case)")->capture_default_str();
@@ -230,6 +285,21 @@ int train_embedding_main(int argc, char** argv) {
   app.add_option("--refractory", refractory, "seconds without a second detection")
       ->capture_default_str();
   app.add_option("--threads", threads, "threads for the embeddings")->capture_default_str();
+  app.add_option("--final-negative-weight", topt.final_negative_weight,
+                 "negatives' loss weight in the last epoch (linear from 1)")
+      ->capture_default_str();
+  app.add_option("--features", feature_files,
+                 "train from these feature files (--save-features) instead of synthesising");
+  app.add_option("--save-features", save_features,
+                 "write every example's 16 embeddings (after mining) to this file");
+  app.add_option("--mine-head", mine_head_path,
+                 "hard-negative mining: windows this head scores >= --mine-floor become negatives");
+  app.add_option("--mine-minutes", mine_minutes,
+                 "minutes of keyword-free synthetic conversation (training voices) to mine")
+      ->capture_default_str();
+  app.add_option("--mine-dir", mine_dirs, "folders of real recordings of other words to mine");
+  app.add_option("--mine-floor", mine_floor)->capture_default_str();
+  app.add_option("--mine-copies", mine_copies)->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     const auto start = std::chrono::steady_clock::now();
@@ -256,57 +326,91 @@ int train_embedding_main(int argc, char** argv) {
       if (r < 0.7f) return kws::varied_sentence(rng);
       return kws::random_sentence(rng);
     };
-    std::vector<RawExample> raw;
-    for (int k = 0; k < positives; ++k) {
-      const std::vector<float> w = say(keyword);
-      const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
-      raw.push_back(place(w, &ctx, 1.0f, noise_pool, rng));
-    }
-    // The keyword heard too long ago (it ended 0.45..1.2 s before), alone or followed by a
-    // command: not a detection now, or a keyword followed by speech fires twice.
-    for (int k = 0; k < late_keywords; ++k) {
-      const std::vector<float> w = say(keyword);
-      const std::vector<float> after = u(rng) < 0.7f ? say(other_text()) : std::vector<float>{};
-      raw.push_back(place(w, nullptr, 0.0f, noise_pool, rng, 0.45f, 1.2f, &after));
-    }
-    std::printf("%d keyword examples, %d late-keyword examples synthesised (%.0f s)\n", positives,
-                late_keywords, head_seconds_since(start));
-    std::fflush(stdout);
-    for (int k = 0; k < negatives; ++k) {
-      std::vector<float> w = say(other_text());
-      // A sentence ending, or a 0.5..1.5 s piece from its middle.
-      if (w.size() > 24000 && u(rng) < 0.5f) {
-        const auto n = static_cast<std::size_t>((0.5f + u(rng)) * 16000.0f);
-        const auto at = std::uniform_int_distribution<std::size_t>(0, w.size() - n)(rng);
-        w = std::vector<float>(w.begin() + static_cast<std::ptrdiff_t>(at),
-                               w.begin() + static_cast<std::ptrdiff_t>(at + n));
-      }
-      const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
-      raw.push_back(place(w, &ctx, 0.0f, noise_pool, rng));
-    }
-    for (int k = 0; k < noise_examples; ++k)
-      raw.push_back(place({}, nullptr, 0.0f, noise_pool, rng));
-    std::printf("%d other-speech and %d noise examples synthesised (%.0f s)\n", negatives,
-                noise_examples, head_seconds_since(start));
+    kws::HeadSet all;
     std::size_t real = 0;
-    for (const auto& dir : negative_dirs) {
-      const auto recordings = read_sound_folder(dir, 0);
-      for (int c = 0; c < real_copies; ++c) {
-        for (const auto& r : recordings) raw.push_back(place(r, nullptr, 0.0f, noise_pool, rng));
-      }
-      real += recordings.size() * static_cast<std::size_t>(real_copies);
-      std::printf("%zu real recordings from %s\n", recordings.size(), dir.c_str());
+    for (const auto& f : feature_files) {
+      all.append(kws::load_head_set(f));
+      std::printf("%s: %zu cached examples\n", f.c_str(), all.size());
     }
-    const std::vector<float> conversation =
-        negative_minutes > 0.0
-            ? kws::negative_speech(negative_minutes * 60.0, voices, noise_pool, rng)
-            : std::vector<float>{};
-    std::printf("%.1f min of keyword-free conversation synthesised (%.0f s)\n", negative_minutes,
-                head_seconds_since(start));
-    std::fflush(stdout);
-    kws::HeadSet all = embed_examples(raw, models, threads);
-    if (!conversation.empty())
-      all.append(stream_negatives(conversation, models, conversation_stride));
+    if (feature_files.empty()) {
+      std::vector<RawExample> raw;
+      for (int k = 0; k < positives; ++k) {
+        const std::vector<float> w = say(keyword);
+        const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
+        raw.push_back(place(w, &ctx, 1.0f, noise_pool, rng));
+      }
+      // The keyword heard too long ago (it ended 0.45..1.2 s before), alone or followed by a
+      // command: not a detection now, or a keyword followed by speech fires twice.
+      for (int k = 0; k < late_keywords; ++k) {
+        const std::vector<float> w = say(keyword);
+        const std::vector<float> after = u(rng) < 0.7f ? say(other_text()) : std::vector<float>{};
+        raw.push_back(place(w, nullptr, 0.0f, noise_pool, rng, 0.45f, 1.2f, &after));
+      }
+      std::printf("%d keyword examples, %d late-keyword examples synthesised (%.0f s)\n", positives,
+                  late_keywords, head_seconds_since(start));
+      std::fflush(stdout);
+      for (int k = 0; k < negatives; ++k) {
+        std::vector<float> w = say(other_text());
+        // A sentence ending, or a 0.5..1.5 s piece from its middle.
+        if (w.size() > 24000 && u(rng) < 0.5f) {
+          const auto n = static_cast<std::size_t>((0.5f + u(rng)) * 16000.0f);
+          const auto at = std::uniform_int_distribution<std::size_t>(0, w.size() - n)(rng);
+          w = std::vector<float>(w.begin() + static_cast<std::ptrdiff_t>(at),
+                                 w.begin() + static_cast<std::ptrdiff_t>(at + n));
+        }
+        const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
+        raw.push_back(place(w, &ctx, 0.0f, noise_pool, rng));
+      }
+      for (int k = 0; k < noise_examples; ++k)
+        raw.push_back(place({}, nullptr, 0.0f, noise_pool, rng));
+      std::printf("%d other-speech and %d noise examples synthesised (%.0f s)\n", negatives,
+                  noise_examples, head_seconds_since(start));
+      for (const auto& dir : negative_dirs) {
+        const auto recordings = read_sound_folder(dir, 0);
+        for (int c = 0; c < real_copies; ++c) {
+          for (const auto& r : recordings) raw.push_back(place(r, nullptr, 0.0f, noise_pool, rng));
+        }
+        real += recordings.size() * static_cast<std::size_t>(real_copies);
+        std::printf("%zu real recordings from %s\n", recordings.size(), dir.c_str());
+      }
+      const std::vector<float> conversation =
+          negative_minutes > 0.0
+              ? kws::negative_speech(negative_minutes * 60.0, voices, noise_pool, rng)
+              : std::vector<float>{};
+      std::printf("%.1f min of keyword-free conversation synthesised (%.0f s)\n", negative_minutes,
+                  head_seconds_since(start));
+      std::fflush(stdout);
+      all = embed_examples(raw, models, threads);
+      if (!conversation.empty())
+        all.append(stream_negatives(conversation, models, conversation_stride));
+    }
+    if (!mine_head_path.empty()) {
+      // Hard negatives: every window of keyword-free speech the previous head scores at or
+      // over the floor (openWakeWord's recipe), from synthetic conversation in training
+      // voices and from real recordings of other words.
+      const kws::EmbeddingHead mine_head = kws::load_head(mine_head_path);
+      std::vector<std::pair<std::string, std::vector<float>>> streams;
+      if (mine_minutes > 0.0) {
+        streams.emplace_back("synthetic conversation",
+                             kws::negative_speech(mine_minutes * 60.0, voices, noise_pool, rng));
+      }
+      for (const auto& dir : mine_dirs) {
+        streams.emplace_back(dir, real_stream(read_sound_folder(dir, 0), noise_pool, rng));
+      }
+      for (const auto& [name, audio] : streams) {
+        const MineResult m = mine_stream(audio, models, mine_head, mine_floor);
+        for (int c = 0; c < mine_copies; ++c) all.append(m.set);
+        std::printf("mined %s: %.1f min, %zu windows, %zu scored >= %.2f (%zu >= 0.5) (%.0f s)\n",
+                    name.c_str(), static_cast<double>(audio.size()) / 16000.0 / 60.0, m.windows,
+                    m.set.size(), static_cast<double>(mine_floor), m.over_half,
+                    head_seconds_since(start));
+        std::fflush(stdout);
+      }
+    }
+    if (!save_features.empty()) {
+      kws::save_head_set(save_features, all);
+      std::printf("saved %zu examples to %s\n", all.size(), save_features.c_str());
+    }
     std::size_t pos = 0;
     for (float l : all.labels) pos += l > 0.5f ? 1 : 0;
     std::printf("embedded: %zu examples, %zu positive, %zu negative (%zu real) (%.0f s)\n",
