@@ -371,6 +371,71 @@ void print_best(const char* name, const std::vector<EvalRow>& rows) {
   }
 }
 
+// Every --embedding-head on one track: the embeddings are computed once (they do not depend
+// on the head), each head scores every 80 ms as EmbeddingWakeWord does.
+std::vector<std::vector<EvalRow>> all_embedding_rows(const std::vector<std::string>& paths,
+                                                     const std::vector<std::int16_t>& pcm,
+                                                     const Track& track,
+                                                     const std::vector<float>& thresholds,
+                                                     double hours) {
+  std::vector<std::vector<EvalRow>> rows(paths.size());
+  if (paths.empty()) return rows;
+  std::vector<kws::EmbeddingHead> heads;
+  for (const auto& p : paths) heads.push_back(kws::load_head(p));
+  double cpu = 0.0;
+  // The first head through the detector itself (the listening cost figure) ...
+  const ScoreLog first = embedding_scores(heads.front(), pcm, &cpu);
+  std::vector<ScoreLog> logs(heads.size());
+  logs[0] = first;
+  if (heads.size() > 1) {
+    // ... the others over the same embeddings.
+    kws::EmbeddingStream stream(kws::EmbeddingModels::load());
+    std::vector<kws::Embedding> all, fresh;
+    std::vector<std::int64_t> ends;
+    std::vector<float> scaled;
+    for (std::size_t i = 0; i < pcm.size(); i += 1600) {
+      const std::size_t n = std::min<std::size_t>(1600, pcm.size() - i);
+      scaled.assign(pcm.begin() + static_cast<std::ptrdiff_t>(i),
+                    pcm.begin() + static_cast<std::ptrdiff_t>(i + n));
+      fresh.clear();
+      stream.push(scaled, fresh);
+      const std::int64_t last_end = stream.samples_seen();
+      for (std::size_t k = 0; k < fresh.size(); ++k) {
+        all.push_back(fresh[k]);
+        ends.push_back(last_end -
+                       static_cast<std::int64_t>(fresh.size() - 1 - k) * kws::kEmbeddingHop);
+      }
+    }
+    std::vector<float> in(kws::kHeadInputs);
+    for (std::size_t e = kws::kHeadEmbeddings - 1; e < all.size(); ++e) {
+      for (std::size_t j = 0; j < static_cast<std::size_t>(kws::kHeadEmbeddings); ++j) {
+        const auto& emb = all[e + 1 - kws::kHeadEmbeddings + j];
+        std::copy(emb.begin(), emb.end(),
+                  in.begin() + static_cast<std::ptrdiff_t>(j * kws::kEmbeddingSize));
+      }
+      for (std::size_t h = 1; h < heads.size(); ++h)
+        logs[h].emplace_back(ends[e], heads[h].score(in));
+    }
+  }
+  for (std::size_t h = 0; h < heads.size(); ++h) {
+    std::printf("-- embedding head %s (\"%s\", refractory %.1f s)\n", paths[h].c_str(),
+                heads[h].keyword.c_str(), static_cast<double>(heads[h].refractory_seconds));
+    print_embedding_rows(logs[h], track, thresholds, heads[h].refractory_seconds, hours, rows[h]);
+  }
+  std::printf(
+      "(embedding wake word \"%s\": %.1f s of CPU for %.1f s of audio, %.2f%% of one core)\n",
+      heads.front().keyword.c_str(), cpu, hours * 3600.0, 100.0 * cpu / (hours * 3600.0));
+  return rows;
+}
+
+void print_all_best(const std::vector<std::string>& paths,
+                    const std::vector<std::vector<EvalRow>>& rows) {
+  for (std::size_t h = 0; h < paths.size(); ++h) {
+    std::printf("  embedding %s:\n", paths[h].c_str());
+    print_best("", rows[h]);
+  }
+}
+
 // Real recordings: every file of the negative folders and the positive folder, shuffled, one
 // after another with 0.3..2.5 s pauses, over continuous background noise (--noise files, else
 // generated) at -50..-35 dBFS; each utterance at -18..-4 dBFS peak.
@@ -444,11 +509,12 @@ int main(int argc, char** argv) {
   app.add_option("--details", details_threshold,
                  "at this threshold (first --smoothing): miss rate per voice, keyword posterior "
                  "peaks, and each false accept with what was said");
-  std::string head_path, positives_dir, noise_dir;
+  std::vector<std::string> head_paths;
+  std::string positives_dir, noise_dir;
   std::vector<std::string> negative_dirs;
   std::vector<float> embedding_thresholds = {0.3f,  0.5f,  0.7f,  0.8f,  0.9f,
                                              0.95f, 0.98f, 0.99f, 0.995f};
-  app.add_option("--embedding-head", head_path,
+  app.add_option("--embedding-head", head_paths,
                  "also evaluate the embedding wake word with this head (on the same track)");
   app.add_option("--embedding-thresholds", embedding_thresholds)->capture_default_str();
   app.add_option("--embedding-consecutive", g_embedding_consecutive,
@@ -481,17 +547,9 @@ int main(int argc, char** argv) {
                   track.sentences.size());
       if (!save_track.empty()) marvin::audio::write_speech_file(save_track, pcm);
       std::printf("\n%-28s %9s %8s %6s %8s\n", "detector", "setting", "miss", "FA", "FA/h");
-      std::vector<EvalRow> head_rows, cnn_rows;
-      if (!head_path.empty()) {
-        const kws::EmbeddingHead head = kws::load_head(head_path);
-        double cpu = 0.0;
-        const ScoreLog log = embedding_scores(head, pcm, &cpu);
-        print_embedding_rows(log, track, embedding_thresholds, head.refractory_seconds, hours,
-                             head_rows);
-        std::printf(
-            "(embedding head \"%s\": %.1f s of CPU for %.1f s of audio, %.2f%% of one core)\n",
-            head.keyword.c_str(), cpu, hours * 3600.0, 100.0 * cpu / (hours * 3600.0));
-      }
+      std::vector<EvalRow> cnn_rows;
+      std::vector<std::vector<EvalRow>> head_rows =
+          all_embedding_rows(head_paths, pcm, track, embedding_thresholds, hours);
       const kws::KwsModel model = kws::load_model(model_path);
       {
         const Trace trace = cnn_trace(model, pcm);
@@ -506,7 +564,7 @@ int main(int argc, char** argv) {
         }
       }
       std::printf("\noperating point (lowest miss rate with under 1 false accept per hour):\n");
-      if (!head_path.empty()) print_best("embedding", head_rows);
+      print_all_best(head_paths, head_rows);
       print_best("cnn", cnn_rows);
       std::printf("(%.2f h of audio: one false accept is %.2f FA/h)\n", hours, 1.0 / hours);
     } catch (const std::exception& e) {
@@ -617,16 +675,8 @@ int main(int argc, char** argv) {
         neural_rows.push_back({s.miss_rate(), s.false_accepts / hours, th, sm});
       }
     }
-    std::vector<EvalRow> head_rows;
-    if (!head_path.empty()) {
-      const kws::EmbeddingHead head = kws::load_head(head_path);
-      double cpu = 0.0;
-      const ScoreLog log = embedding_scores(head, pcm, &cpu);
-      print_embedding_rows(log, track, embedding_thresholds, head.refractory_seconds, hours,
-                           head_rows);
-      std::printf("(embedding head: %.1f s of CPU for %.1f s of audio, %.2f%% of one core)\n", cpu,
-                  hours * 3600.0, 100.0 * cpu / (hours * 3600.0));
-    }
+    const std::vector<std::vector<EvalRow>> head_rows =
+        all_embedding_rows(head_paths, pcm, track, embedding_thresholds, hours);
     if (details_threshold >= 0.0f) {
       const Score s =
           score(detection_ends(trace, smoothings.front(), details_threshold, refractory), track);
@@ -661,7 +711,7 @@ int main(int argc, char** argv) {
         std::printf("  pocketsphinx  none of the sensitivities stays under 1 FA/h\n");
       }
     }
-    if (!head_path.empty()) print_best("embedding", head_rows);
+    print_all_best(head_paths, head_rows);
     std::printf("(%.1f h of audio: one false accept is %.2f FA/h; total %.0f s)\n", hours,
                 1.0 / hours, elapsed());
   } catch (const std::exception& e) {
