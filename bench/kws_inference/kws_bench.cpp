@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "devices/audio/sound_buffer.h"
-#include "perception/kws/augment.h"
-#include "perception/kws/dataset.h"
+#include "kws/training/augment.h"
+#include "kws/training/dataset.h"
 #include "perception/kws/neural_wake_word.h"
 
 namespace kws = marvin::perception::kws;

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "devices/audio/sound_buffer.h"
-#include "perception/kws/dataset.h"
+#include "kws/training/dataset.h"
 #include "perception/kws/embedding_wake_word.h"
 #include "kws/spoken_clip.h"
 

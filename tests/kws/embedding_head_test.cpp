@@ -1,5 +1,7 @@
 // The embedding wake word's head: file round trip and refusal of bad files, training on a toy
 // problem, determinism for a seed.
+#include "perception/kws/embedding_head.h"
+
 #include <doctest/doctest.h>
 
 #include <cstring>
@@ -8,8 +10,7 @@
 #include <random>
 #include <string>
 
-#include "perception/kws/embedding_head.h"
-#include "perception/kws/head_trainer.h"
+#include "kws/training/head_trainer.h"
 #include "perception/kws/model_file.h"
 
 namespace kws = marvin::perception::kws;
@@ -49,7 +50,8 @@ kws::HeadSet toy_set(std::size_t n, std::uint64_t seed) {
   for (std::size_t k = 0; k < n; ++k) {
     const bool positive = (rng() & 1u) != 0;
     for (float& v : x) v = noise(rng);
-    for (int d = 0; d < kws::kEmbeddingSize; ++d) x[12 * kws::kEmbeddingSize + d] += positive ? 0.25f : -0.25f;
+    for (int d = 0; d < kws::kEmbeddingSize; ++d)
+      x[12 * kws::kEmbeddingSize + d] += positive ? 0.25f : -0.25f;
     set.add(x, positive ? 1.0f : 0.0f);
   }
   return set;
@@ -92,7 +94,8 @@ TEST_CASE("bad embedding head files are refused with the field and byte") {
 
   auto version = good;
   version[8] = 7;
-  CHECK(head_error(version).find("version at byte 12: format version 7, this build reads 1") != std::string::npos);
+  CHECK(head_error(version).find("version at byte 12: format version 7, this build reads 1") !=
+        std::string::npos);
 
   auto magic = good;
   magic[0] = 'X';
@@ -108,7 +111,8 @@ TEST_CASE("bad embedding head files are refused with the field and byte") {
 
   auto frames = good;
   frames[12] = 10;
-  CHECK(head_error(frames).find("embeddings per input at byte 16: 10, expected 16") != std::string::npos);
+  CHECK(head_error(frames).find("embeddings per input at byte 16: 10, expected 16") !=
+        std::string::npos);
 
   CHECK_THROWS_WITH_AS(kws::load_head("/nonexistent/head.bin"),
                        doctest::Contains("/nonexistent/head.bin"), kws::ModelFileError);
@@ -141,4 +145,76 @@ TEST_CASE("head training learns a toy problem and is deterministic for a seed") 
   CHECK(again.b3 == head.b3);
   options.seed = 6;
   CHECK(kws::train_head(train, options).w1 != head.w1);
+}
+
+TEST_CASE("raising the negatives' weight over the epochs trades misses for fewer false accepts") {
+  // A toy set whose classes overlap: no head separates them, so the weights decide the balance.
+  auto overlapping = [](std::size_t n, std::uint64_t seed) {
+    kws::HeadSet set = toy_set(n, seed);
+    for (std::size_t k = 0; k < set.size(); ++k) {
+      const float shift = set.labels[k] > 0.5f ? 0.25f : -0.25f;
+      for (int d = 0; d < kws::kEmbeddingSize; ++d) {
+        // Keep a tenth of the shift: about half a standard deviation between the classes.
+        set.inputs[k * kws::kHeadInputs + 12 * kws::kEmbeddingSize + static_cast<std::size_t>(d)] -=
+            0.9f * shift;
+      }
+    }
+    return set;
+  };
+  const kws::HeadSet train = overlapping(1500, 3);
+  const kws::HeadSet test = overlapping(1000, 4);
+  kws::HeadTrainOptions options;
+  options.hidden = 16;
+  options.epochs = 6;
+  options.batch = 64;
+  options.learning_rate = 3e-3f;
+  const kws::HeadAccuracy flat = kws::head_accuracy(kws::train_head(train, options), test, 0.5f);
+  options.final_negative_weight = 8.0f;
+  const kws::HeadAccuracy raised = kws::head_accuracy(kws::train_head(train, options), test, 0.5f);
+  MESSAGE("flat ", flat.positives, "/", flat.negatives, " raised ", raised.positives, "/",
+          raised.negatives);
+  CHECK(raised.negatives > flat.negatives + 0.05);
+  CHECK(raised.positives < flat.positives);
+}
+
+TEST_CASE("a feature file round-trips and bad ones are refused, naming the file and byte") {
+  const kws::HeadSet set = toy_set(5, 9);
+  const auto dir = std::filesystem::temp_directory_path() / "marvin-feature-test";
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "set.feat";
+  kws::save_head_set(path, set);
+  const kws::HeadSet back = kws::load_head_set(path);
+  CHECK(back.labels == set.labels);
+  CHECK(back.inputs == set.inputs);
+
+  std::vector<char> bytes(std::filesystem::file_size(path));
+  std::ifstream(path, std::ios::binary)
+      .read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  auto write = [&](const std::vector<char>& b) {
+    const auto p = dir / "bad.feat";
+    std::ofstream(p, std::ios::binary | std::ios::trunc)
+        .write(b.data(), static_cast<std::streamsize>(b.size()));
+    return p;
+  };
+  auto magic = bytes;
+  magic[0] = 'X';
+  CHECK_THROWS_WITH_AS(kws::load_head_set(write(magic)),
+                       doctest::Contains("bad.feat: bytes 0..7: expected \"MKWSFEAT\""),
+                       kws::ModelFileError);
+  auto version = bytes;
+  version[8] = 2;
+  CHECK_THROWS_WITH_AS(kws::load_head_set(write(version)),
+                       doctest::Contains("byte 8: version 2, expected 1"), kws::ModelFileError);
+  auto truncated = bytes;
+  truncated.resize(bytes.size() - 4);
+  const std::string size_error = std::to_string(bytes.size() - 4) + " bytes, expected " +
+                                 std::to_string(bytes.size()) + " for 5 examples";
+  CHECK_THROWS_WITH_AS(kws::load_head_set(write(truncated)), doctest::Contains(size_error.c_str()),
+                       kws::ModelFileError);
+  CHECK_THROWS_WITH_AS(
+      kws::load_head_set(write(std::vector<char>(bytes.begin(), bytes.begin() + 12))),
+      doctest::Contains("truncated header"), kws::ModelFileError);
+  // The good file is untouched by the failed loads.
+  CHECK(kws::load_head_set(path).inputs == set.inputs);
+  std::filesystem::remove_all(dir);
 }

@@ -7,7 +7,7 @@
 #include <random>
 #include <sstream>
 
-#include "perception/kws/generated_voices.h"
+#include "kws/training/generated_voices.h"
 #include "support/child_process.h"
 #include "support/files.h"
 

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "devices/audio/sound_buffer.h"
-#include "perception/kws/augment.h"
-#include "perception/kws/dataset.h"
+#include "kws/training/augment.h"
+#include "kws/training/dataset.h"
 #include "perception/kws/keyword_spotter.h"
 #include "perception/kws/neural_wake_word.h"
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "devices/audio/sound_buffer.h"
-#include "perception/kws/dataset.h"
+#include "kws/training/dataset.h"
 
 namespace marvin::perception::kws::testing {
 

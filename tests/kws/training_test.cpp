@@ -7,9 +7,9 @@
 #include <random>
 #include <string>
 
-#include "perception/kws/augment.h"
+#include "kws/training/augment.h"
 #include "perception/kws/keyword_spotter.h"
-#include "perception/kws/trainer.h"
+#include "kws/training/trainer.h"
 
 namespace kws = marvin::perception::kws;
 

@@ -10,8 +10,8 @@
 //   NAME.mel.f32      the mel front end on the whole file: frames x 32 (the graph's output)
 //   NAME.windows.f32  the embedding inputs: every 8th 76-frame window of that mel, x / 10 + 2
 //   NAME.emb.f32      the embedding of each window: windows x 96
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -46,12 +46,15 @@ int main(int argc, char** argv) {
   std::vector<std::filesystem::path> files;
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
-    if (arg == "--models" && k + 1 < argc) models = argv[++k];
-    else if (arg == "--out" && k + 1 < argc) out_dir = argv[++k];
+    if (arg == "--models" && k + 1 < argc)
+      models = argv[++k];
+    else if (arg == "--out" && k + 1 < argc)
+      out_dir = argv[++k];
     else if (arg == "--help" || arg == "-h") {
       std::cout << "usage: marvin-kws-embed [--models DIR] --out DIR FILE...\n";
       return 0;
-    } else files.emplace_back(arg);
+    } else
+      files.emplace_back(arg);
   }
   if (out_dir.empty() || files.empty()) {
     std::cerr << "usage: marvin-kws-embed [--models DIR] --out DIR FILE...\n";
@@ -71,9 +74,10 @@ int main(int argc, char** argv) {
       const std::size_t frames = mel.size() / kws::kMelBins;
       std::vector<float> windows, embeddings;
       for (std::size_t first = 0; first + kws::kEmbeddingFrames <= frames; first += 8) {
-        std::vector<float> window(mel.begin() + static_cast<std::ptrdiff_t>(first * kws::kMelBins),
-                                  mel.begin() + static_cast<std::ptrdiff_t>(
-                                                    (first + kws::kEmbeddingFrames) * kws::kMelBins));
+        std::vector<float> window(
+            mel.begin() + static_cast<std::ptrdiff_t>(first * kws::kMelBins),
+            mel.begin() +
+                static_cast<std::ptrdiff_t>((first + kws::kEmbeddingFrames) * kws::kMelBins));
         for (float& v : window) v = v / 10.0f + 2.0f;
         const kws::Embedding e = loaded->embedding.embed(window);
         windows.insert(windows.end(), window.begin(), window.end());
@@ -88,13 +92,14 @@ int main(int argc, char** argv) {
       stream.push(samples, streamed);
       stream_seconds += thread_cpu_seconds() - start;
       audio_seconds += static_cast<double>(samples.size()) / 16000.0;
-      std::printf("%s: %zu samples, %zu mel frames, %zu embeddings\n", name.c_str(),
-                  samples.size(), frames, embeddings.size() / kws::kEmbeddingSize);
+      std::printf("%s: %zu samples, %zu mel frames, %zu embeddings\n", name.c_str(), samples.size(),
+                  frames, embeddings.size() / kws::kEmbeddingSize);
     }
-    std::printf("streaming cost: %.3f s of CPU for %.1f s of audio = %.2f%% of one core "
-                "(%.2f M multiply-accumulates per embedding)\n",
-                stream_seconds, audio_seconds, 100.0 * stream_seconds / audio_seconds,
-                static_cast<double>(loaded->embedding.macs()) / 1e6);
+    std::printf(
+        "streaming cost: %.3f s of CPU for %.1f s of audio = %.2f%% of one core "
+        "(%.2f M multiply-accumulates per embedding)\n",
+        stream_seconds, audio_seconds, 100.0 * stream_seconds / audio_seconds,
+        static_cast<double>(loaded->embedding.macs()) / 1e6);
   } catch (const std::exception& e) {
     std::cerr << "marvin-kws-embed: " << e.what() << "\n";
     return 1;

@@ -25,14 +25,14 @@
 
 #include "devices/audio/sound_buffer.h"
 #include "devices/audio/sound_file.h"
-#include "perception/kws/augment.h"
-#include "perception/kws/dataset.h"
+#include "kws/training/augment.h"
+#include "kws/training/dataset.h"
+#include "perception/kws/embedding_wake_word.h"
 #include "perception/kws/features.h"
 #include "perception/kws/keyword_spotter.h"
-#include "perception/kws/embedding_wake_word.h"
 #include "perception/kws/neural_wake_word.h"
-#include "train_embedding.h"
 #include "perception/pocketsphinx_wake_word.h"
+#include "train_embedding.h"
 
 namespace kws = marvin::perception::kws;
 namespace perception = marvin::perception;
@@ -43,27 +43,26 @@ using Clock = std::chrono::steady_clock;
 
 // Sentences the training never saw (the training ones are used as well).
 const std::vector<std::string>& eval_sentences() {
-  static const std::vector<std::string> s = {
-      "the kettle has boiled so we can make some tea",
-      "my knees hurt a little when it is cold outside",
-      "could you bring me the blue blanket from the bedroom",
-      "the postman came early today with two letters",
-      "I need to call the pharmacy before they close",
-      "the cat is sleeping on the windowsill again",
-      "marvellous weather for a walk along the river",
-      "Marvel comics and a martini by the fireplace",
-      "Kevin will drive us to the hospital on Monday",
-      "she is learning to play the violin at seventy",
-      "remind me to buy carrots potatoes and marmalade",
-      "the carving on the old oak door is beautiful",
-      "how far is it to the nearest supermarket",
-      "switch off the radio in the garden shed",
-      "the movie starts at a quarter to eight",
-      "we should invite Mervyn and Margaret for lunch",
-      "the heating makes a strange noise at night",
-      "turn left at the church and then go straight on",
-      "a glass of orange juice and a slice of toast",
-      "the grandchildren are coming for the holidays"};
+  static const std::vector<std::string> s = {"the kettle has boiled so we can make some tea",
+                                             "my knees hurt a little when it is cold outside",
+                                             "could you bring me the blue blanket from the bedroom",
+                                             "the postman came early today with two letters",
+                                             "I need to call the pharmacy before they close",
+                                             "the cat is sleeping on the windowsill again",
+                                             "marvellous weather for a walk along the river",
+                                             "Marvel comics and a martini by the fireplace",
+                                             "Kevin will drive us to the hospital on Monday",
+                                             "she is learning to play the violin at seventy",
+                                             "remind me to buy carrots potatoes and marmalade",
+                                             "the carving on the old oak door is beautiful",
+                                             "how far is it to the nearest supermarket",
+                                             "switch off the radio in the garden shed",
+                                             "the movie starts at a quarter to eight",
+                                             "we should invite Mervyn and Margaret for lunch",
+                                             "the heating makes a strange noise at night",
+                                             "turn left at the church and then go straight on",
+                                             "a glass of orange juice and a slice of toast",
+                                             "the grandchildren are coming for the holidays"};
   return s;
 }
 
@@ -98,15 +97,16 @@ Track build_track(double minutes, int keywords, const std::string& keyword,
   std::uniform_int_distribution<std::size_t> pick_voice(0, voices.size() - 1);
   // Continuous background: the noise pool's streams one after another at -50..-35 dBFS.
   for (std::size_t pos = 0; pos < total;) {
-    const auto& n = noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+    const auto& n =
+        noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
     const float level = db(-50.0f + 15.0f * u(rng)) / std::max(kws::rms(n), 1e-6f);
     for (std::size_t i = 0; i < n.size() && pos < total; ++i) t.audio[pos++] += level * n[i];
   }
   std::vector<std::string> sents = kws::sentences();
   sents.insert(sents.end(), eval_sentences().begin(), eval_sentences().end());
   std::uniform_int_distribution<std::size_t> pick_sent(0, sents.size() - 1);
-  const std::string cap = static_cast<char>(std::toupper(static_cast<unsigned char>(keyword[0]))) +
-                          keyword.substr(1);
+  const std::string cap =
+      static_cast<char>(std::toupper(static_cast<unsigned char>(keyword[0]))) + keyword.substr(1);
   const double spacing = static_cast<double>(total) / std::max(1, keywords);
   int placed = 0;
   std::size_t pos = 8000;
@@ -117,24 +117,28 @@ Track build_track(double minutes, int keywords, const std::string& keyword,
     const std::string& voice = voices[pick_voice(rng)];
     const float level = -18.0f + 14.0f * u(rng);
     if (placed < keywords && static_cast<double>(pos) >= next_kw) {
-      const std::vector<float> kw = kws::synthesize(u(rng) < 0.5f ? cap : keyword, voice, rate, pitch);
+      const std::vector<float> kw =
+          kws::synthesize(u(rng) < 0.5f ? cap : keyword, voice, rate, pitch);
       if (pos + kw.size() >= total) break;
       mix_in(t.audio, pos, kw, level);
-      t.keywords.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + kw.size()), keyword, voice});
+      t.keywords.push_back({static_cast<std::int64_t>(pos),
+                            static_cast<std::int64_t>(pos + kw.size()), keyword, voice});
       pos += kw.size() + static_cast<std::size_t>(2400 + 4000 * u(rng));
       ++placed;
       if (u(rng) < 0.6f) {  // "Marvin, <command>"
         const std::string& text = sents[pick_sent(rng)];
         const std::vector<float> cmd = kws::synthesize(text, voice, rate, pitch);
         mix_in(t.audio, pos, cmd, level);
-        t.sentences.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + cmd.size()), text, voice});
+        t.sentences.push_back({static_cast<std::int64_t>(pos),
+                               static_cast<std::int64_t>(pos + cmd.size()), text, voice});
         pos += cmd.size();
       }
     } else {
       const std::string& text = sents[pick_sent(rng)];
       const std::vector<float> s = kws::synthesize(text, voice, rate, pitch);
       mix_in(t.audio, pos, s, level);
-      t.sentences.push_back({static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + s.size()), text, voice});
+      t.sentences.push_back(
+          {static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + s.size()), text, voice});
       pos += s.size();
     }
     pos += static_cast<std::size_t>(4800 + 40000 * u(rng));
@@ -151,9 +155,11 @@ bool detects(const Segment& keyword, std::int64_t end) {
 
 struct Score {
   int hits = 0, misses = 0, false_accepts = 0;
-  std::vector<bool> found;                  // per keyword of the track
+  std::vector<bool> found;  // per keyword of the track
   std::vector<std::int64_t> false_accept_ends;
-  double miss_rate() const { return hits + misses > 0 ? static_cast<double>(misses) / (hits + misses) : 0.0; }
+  double miss_rate() const {
+    return hits + misses > 0 ? static_cast<double>(misses) / (hits + misses) : 0.0;
+  }
 };
 
 Score score(const std::vector<std::int64_t>& ends, const Track& track) {
@@ -179,9 +185,10 @@ Score score(const std::vector<std::int64_t>& ends, const Track& track) {
 }
 
 void print_accuracy(const char* name, const kws::Accuracy& a) {
-  std::printf("  %-6s overall %6.2f%%  keyword %6.2f%%  unknown %6.2f%%  silence %6.2f%%  noise %6.2f%%\n",
-              name, 100.0 * a.overall, 100.0 * a.per_class(0), 100.0 * a.per_class(1),
-              100.0 * a.per_class(2), 100.0 * a.per_class(3));
+  std::printf(
+      "  %-6s overall %6.2f%%  keyword %6.2f%%  unknown %6.2f%%  silence %6.2f%%  noise %6.2f%%\n",
+      name, 100.0 * a.overall, 100.0 * a.per_class(0), 100.0 * a.per_class(1),
+      100.0 * a.per_class(2), 100.0 * a.per_class(3));
 }
 
 struct Trace {
@@ -213,7 +220,8 @@ Trace cnn_trace(const kws::KwsModel& model, const std::vector<std::int16_t>& pcm
 std::int64_t end_sample(std::int64_t end_frame) { return (end_frame - 1) * 160 + 400; }
 
 // Replays the decision (smoothing, threshold, refractory period) over the posterior trace.
-std::vector<std::int64_t> detection_ends(const Trace& trace, int smoothing, float threshold, int refractory) {
+std::vector<std::int64_t> detection_ends(const Trace& trace, int smoothing, float threshold,
+                                         int refractory) {
   kws::DetectionDecider decider(smoothing, threshold, refractory);
   std::vector<std::int64_t> ends;
   for (std::size_t w = 0; w < trace.posteriors.size(); ++w) {
@@ -233,12 +241,13 @@ std::string variant_of(const std::string& voice) {
 // being said in the window that fired.
 void print_details(const Score& s, const Track& track, const Trace& trace, float threshold,
                    int smoothing) {
-  std::printf("\ndetails at threshold %.3f, smoothing %d:\n", static_cast<double>(threshold), smoothing);
+  std::printf("\ndetails at threshold %.3f, smoothing %d:\n", static_cast<double>(threshold),
+              smoothing);
   std::map<std::string, std::pair<int, int>> by_base, by_variant;  // misses, keywords
   for (std::size_t k = 0; k < track.keywords.size(); ++k) {
     for (auto* m : {&by_base, &by_variant}) {
-      auto& [misses, total] =
-          (*m)[m == &by_base ? base_of(track.keywords[k].voice) : variant_of(track.keywords[k].voice)];
+      auto& [misses, total] = (*m)[m == &by_base ? base_of(track.keywords[k].voice)
+                                                 : variant_of(track.keywords[k].voice)];
       misses += s.found[k] ? 0 : 1;
       ++total;
     }
@@ -262,17 +271,21 @@ void print_details(const Score& s, const Track& track, const Trace& trace, float
     while (i < 4 && peak >= edges[i]) ++i;
     ++buckets[i];
   }
-  std::printf("  keywords by highest window posterior: <0.5 %d, 0.5-0.9 %d, 0.9-0.97 %d, 0.97-0.99 %d, >=0.99 %d\n",
-              buckets[0], buckets[1], buckets[2], buckets[3], buckets[4]);
+  std::printf(
+      "  keywords by highest window posterior: <0.5 %d, 0.5-0.9 %d, 0.9-0.97 %d, 0.97-0.99 %d, "
+      ">=0.99 %d\n",
+      buckets[0], buckets[1], buckets[2], buckets[3], buckets[4]);
   std::printf("  false accepts (time, then what was said in the 1 s before):\n");
   for (std::int64_t e : s.false_accept_ends) {
     std::string said;
     for (const auto* list : {&track.keywords, &track.sentences}) {
       for (const Segment& g : *list) {
-        if (g.end > e - kws::kWindowSamples && g.begin < e) said += " [" + g.voice + "] \"" + g.text + "\"";
+        if (g.end > e - kws::kWindowSamples && g.begin < e)
+          said += " [" + g.voice + "] \"" + g.text + "\"";
       }
     }
-    std::printf("    %7.1f s%s\n", static_cast<double>(e) / 16000.0, said.empty() ? " (noise only)" : said.c_str());
+    std::printf("    %7.1f s%s\n", static_cast<double>(e) / 16000.0,
+                said.empty() ? " (noise only)" : said.c_str());
   }
 }
 
@@ -295,34 +308,54 @@ ScoreLog embedding_scores(const kws::EmbeddingHead& head, const std::vector<std:
   };
   const double start = cpu_now();
   for (std::size_t i = 0; i < pcm.size(); i += 1600) {
-    detector.process(std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)), ignored);
+    detector.process(
+        std::span<const std::int16_t>(pcm).subspan(i, std::min<std::size_t>(1600, pcm.size() - i)),
+        ignored);
   }
   *cpu_seconds = cpu_now() - start;
   return log;
 }
 
-// Replays threshold and refractory period over the score log.
-std::vector<std::int64_t> embedding_ends(const ScoreLog& log, float threshold, float refractory_s) {
+// Replays threshold, the number of consecutive 80 ms scores that must reach it, and the
+// refractory period over the score log.
+std::vector<std::int64_t> embedding_ends(const ScoreLog& log, float threshold, float refractory_s,
+                                         int consecutive) {
   std::vector<std::int64_t> ends;
   const auto refractory = static_cast<std::int64_t>(refractory_s * 16000.0f);
+  int run = 0;
   for (const auto& [end, score] : log) {
-    if (score >= threshold && (ends.empty() || end - ends.back() >= refractory)) ends.push_back(end);
+    run = score >= threshold ? run + 1 : 0;
+    if (run >= consecutive && (ends.empty() || end - ends.back() >= refractory))
+      ends.push_back(end);
   }
   return ends;
 }
 
+// --embedding-consecutive: the step counts to replay (1 = every score on its own).
+std::vector<int> g_embedding_consecutive = {1};
+
 struct EvalRow {
   double miss, fah;
   float setting;
+  int consecutive = 1;
 };
 
-void print_embedding_rows(const ScoreLog& log, const Track& track, const std::vector<float>& thresholds,
-                          float refractory_s, double hours, std::vector<EvalRow>& rows) {
-  for (float th : thresholds) {
-    const Score s = score(embedding_ends(log, th, refractory_s), track);
-    std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", "embedding head", static_cast<double>(th),
-                100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
-    rows.push_back({s.miss_rate(), s.false_accepts / hours, th});
+void print_embedding_rows(const ScoreLog& log, const Track& track,
+                          const std::vector<float>& thresholds, float refractory_s, double hours,
+                          std::vector<EvalRow>& rows) {
+  for (int n : g_embedding_consecutive) {
+    char name[64];
+    if (n == 1) {
+      std::snprintf(name, sizeof name, "embedding head");
+    } else {
+      std::snprintf(name, sizeof name, "embedding head %d steps", n);
+    }
+    for (float th : thresholds) {
+      const Score s = score(embedding_ends(log, th, refractory_s, n), track);
+      std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", name, static_cast<double>(th),
+                  100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+      rows.push_back({s.miss_rate(), s.false_accepts / hours, th, n});
+    }
   }
 }
 
@@ -355,10 +388,76 @@ void print_best(const char* name, const std::vector<EvalRow>& rows) {
     if (r.fah < 1.0 && (!best || r.miss < best->miss)) best = &r;
   }
   if (best) {
-    std::printf("  %-13s setting %.3f: miss %.2f%%, %.2f FA/h\n", name, static_cast<double>(best->setting),
-                100.0 * best->miss, best->fah);
+    std::printf("  %-13s setting %.3f, %d consecutive: miss %.2f%%, %.2f FA/h\n", name,
+                static_cast<double>(best->setting), best->consecutive, 100.0 * best->miss,
+                best->fah);
   } else {
     std::printf("  %-13s none of the settings stays under 1 FA/h\n", name);
+  }
+}
+
+// Every --embedding-head on one track: the embeddings are computed once (they do not depend
+// on the head), each head scores every 80 ms as EmbeddingWakeWord does.
+std::vector<std::vector<EvalRow>> all_embedding_rows(const std::vector<std::string>& paths,
+                                                     const std::vector<std::int16_t>& pcm,
+                                                     const Track& track,
+                                                     const std::vector<float>& thresholds,
+                                                     double hours) {
+  std::vector<std::vector<EvalRow>> rows(paths.size());
+  if (paths.empty()) return rows;
+  std::vector<kws::EmbeddingHead> heads;
+  for (const auto& p : paths) heads.push_back(kws::load_head(p));
+  double cpu = 0.0;
+  // The first head through the detector itself (the listening cost figure) ...
+  const ScoreLog first = embedding_scores(heads.front(), pcm, &cpu);
+  std::vector<ScoreLog> logs(heads.size());
+  logs[0] = first;
+  if (heads.size() > 1) {
+    // ... the others over the same embeddings.
+    kws::EmbeddingStream stream(kws::EmbeddingModels::load());
+    std::vector<kws::Embedding> all, fresh;
+    std::vector<std::int64_t> ends;
+    std::vector<float> scaled;
+    for (std::size_t i = 0; i < pcm.size(); i += 1600) {
+      const std::size_t n = std::min<std::size_t>(1600, pcm.size() - i);
+      scaled.assign(pcm.begin() + static_cast<std::ptrdiff_t>(i),
+                    pcm.begin() + static_cast<std::ptrdiff_t>(i + n));
+      fresh.clear();
+      stream.push(scaled, fresh);
+      const std::int64_t last_end = stream.samples_seen();
+      for (std::size_t k = 0; k < fresh.size(); ++k) {
+        all.push_back(fresh[k]);
+        ends.push_back(last_end -
+                       static_cast<std::int64_t>(fresh.size() - 1 - k) * kws::kEmbeddingHop);
+      }
+    }
+    std::vector<float> in(kws::kHeadInputs);
+    for (std::size_t e = kws::kHeadEmbeddings - 1; e < all.size(); ++e) {
+      for (std::size_t j = 0; j < static_cast<std::size_t>(kws::kHeadEmbeddings); ++j) {
+        const auto& emb = all[e + 1 - kws::kHeadEmbeddings + j];
+        std::copy(emb.begin(), emb.end(),
+                  in.begin() + static_cast<std::ptrdiff_t>(j * kws::kEmbeddingSize));
+      }
+      for (std::size_t h = 1; h < heads.size(); ++h)
+        logs[h].emplace_back(ends[e], heads[h].score(in));
+    }
+  }
+  for (std::size_t h = 0; h < heads.size(); ++h) {
+    std::printf("-- embedding head %s (\"%s\", refractory %.1f s)\n", paths[h].c_str(),
+                heads[h].keyword.c_str(), static_cast<double>(heads[h].refractory_seconds));
+    print_embedding_rows(logs[h], track, thresholds, heads[h].refractory_seconds, hours, rows[h]);
+  }
+  std::printf(
+      "(embedding wake word \"%s\": %.1f s of CPU for %.1f s of audio, %.2f%% of one core)\n",
+      heads.front().keyword.c_str(), cpu, hours * 3600.0, 100.0 * cpu / (hours * 3600.0));
+  return rows;
+}
+
+void print_all_best(const std::vector<std::string>& paths,
+                    const std::vector<std::vector<EvalRow>>& rows) {
+  for (std::size_t h = 0; h < paths.size(); ++h) {
+    std::printf("  embedding %s:\n", paths[h].c_str());
+    print_best("", rows[h]);
   }
 }
 
@@ -382,16 +481,19 @@ Track build_real_track(const std::vector<std::vector<float>>& positives,
   Track t;
   t.audio.assign(total + 16000, 0.0f);
   for (std::size_t pos = 0; pos < t.audio.size();) {
-    const auto& n = noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+    const auto& n =
+        noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
     const float level = db(-50.0f + 15.0f * u(rng)) / std::max(kws::rms(n), 1e-6f);
-    for (std::size_t i = 0; i < n.size() && pos < t.audio.size(); ++i) t.audio[pos++] += level * n[i];
+    for (std::size_t i = 0; i < n.size() && pos < t.audio.size(); ++i)
+      t.audio[pos++] += level * n[i];
   }
   std::size_t pos = 16000;
   for (std::size_t k = 0; k < items.size(); ++k) {
     pos += gaps[k];
     const auto& x = *items[k].first;
     mix_in(t.audio, pos, x, -18.0f + 14.0f * u(rng));
-    Segment seg{static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + x.size()), "", "real"};
+    Segment seg{static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + x.size()), "",
+                "real"};
     (items[k].second ? t.keywords : t.sentences).push_back(seg);
     pos += x.size();
   }
@@ -414,11 +516,14 @@ int main(int argc, char** argv) {
   app.add_option("--model", model_path, "int8 model")->capture_default_str();
   app.add_option("--float-model", float_model_path, "float model, for float vs int8 accuracy");
   app.add_option("--seed", seed)->capture_default_str();
-  app.add_option("--clips", clips, "held-out keyword clips (other classes in proportion)")->capture_default_str();
+  app.add_option("--clips", clips, "held-out keyword clips (other classes in proportion)")
+      ->capture_default_str();
   app.add_option("--minutes", minutes, "length of the streaming track")->capture_default_str();
-  app.add_option("--keywords", keywords, "keywords inside the streaming track")->capture_default_str();
+  app.add_option("--keywords", keywords, "keywords inside the streaming track")
+      ->capture_default_str();
   app.add_option("--thresholds", thresholds, "neural thresholds to report")->capture_default_str();
-  app.add_option("--ps-sensitivities", ps_sensitivities, "pocketsphinx sensitivities")->capture_default_str();
+  app.add_option("--ps-sensitivities", ps_sensitivities, "pocketsphinx sensitivities")
+      ->capture_default_str();
   app.add_flag("--no-pocketsphinx", no_pocketsphinx);
   app.add_option("--smoothing", smoothings,
                  "smoothing windows to replay the trace with (default: the model's); several "
@@ -429,12 +534,18 @@ int main(int argc, char** argv) {
   app.add_option("--details", details_threshold,
                  "at this threshold (first --smoothing): miss rate per voice, keyword posterior "
                  "peaks, and each false accept with what was said");
-  std::string head_path, positives_dir, noise_dir, ps_keyword_option;
+  std::vector<std::string> head_paths;
+  std::string positives_dir, noise_dir, ps_keyword_option;
   std::vector<std::string> negative_dirs;
-  std::vector<float> embedding_thresholds = {0.3f, 0.5f, 0.7f, 0.8f, 0.9f, 0.95f, 0.98f, 0.99f, 0.995f};
-  app.add_option("--embedding-head", head_path,
+  std::vector<float> embedding_thresholds = {0.3f,  0.5f,  0.7f,  0.8f,  0.9f,
+                                             0.95f, 0.98f, 0.99f, 0.995f};
+  app.add_option("--embedding-head", head_paths,
                  "also evaluate the embedding wake word with this head (on the same track)");
   app.add_option("--embedding-thresholds", embedding_thresholds)->capture_default_str();
+  app.add_option("--embedding-consecutive", g_embedding_consecutive,
+                 "embedding head: scores over the threshold in N consecutive 80 ms steps for a "
+                 "detection; several values replay the one score log with each")
+      ->capture_default_str();
   app.add_option("--positives", positives_dir,
                  "real recordings of the keyword (WAV/FLAC folder): evaluate on a track of real "
                  "recordings instead of held-out synthetic voices");
@@ -452,38 +563,39 @@ int main(int argc, char** argv) {
       std::vector<std::vector<float>> negatives;
       for (const auto& d : negative_dirs) {
         auto n = read_sound_folder(d, 0);
-        negatives.insert(negatives.end(), std::make_move_iterator(n.begin()), std::make_move_iterator(n.end()));
+        negatives.insert(negatives.end(), std::make_move_iterator(n.begin()),
+                         std::make_move_iterator(n.end()));
       }
       const auto noise_pool = kws::make_noise_pool(noise_dir, kws::heldout_voices(), rng);
       const Track track = build_real_track(positives, negatives, noise_pool, rng);
       const std::vector<std::int16_t> pcm = marvin::audio::to_pcm16(track.audio);
       const double hours = static_cast<double>(pcm.size()) / 16000.0 / 3600.0;
-      std::printf("real track: %.1f min, %zu keyword recordings (%s), %zu other recordings\n", hours * 60.0,
-                  track.keywords.size(), positives_dir.c_str(), track.sentences.size());
+      std::printf("real track: %.1f min, %zu keyword recordings (%s), %zu other recordings\n",
+                  hours * 60.0, track.keywords.size(), positives_dir.c_str(),
+                  track.sentences.size());
       if (!save_track.empty()) marvin::audio::write_speech_file(save_track, pcm);
       std::printf("\n%-28s %9s %8s %6s %8s\n", "detector", "setting", "miss", "FA", "FA/h");
-      std::vector<EvalRow> head_rows, cnn_rows, ps_rows;
+      std::vector<EvalRow> cnn_rows, ps_rows;
       const kws::KwsModel model = kws::load_model(model_path);
-      // pocketsphinx listens for the keyword of the recordings: --ps-keyword, else the head's.
+      // pocketsphinx listens for the keyword of the recordings: --ps-keyword, else the (first)
+      // head's, else the model's.
       const std::string ps_keyword = !ps_keyword_option.empty() ? ps_keyword_option
-                                     : head_path.empty()        ? model.keyword
-                                                                : kws::load_head(head_path).keyword;
+                                     : head_paths.empty()
+                                         ? model.keyword
+                                         : kws::load_head(head_paths.front()).keyword;
       std::vector<std::future<std::vector<std::int64_t>>> ps_runs;
       if (!no_pocketsphinx) ps_runs = start_pocketsphinx(pcm, ps_sensitivities, ps_keyword);
-      if (!head_path.empty()) {
-        const kws::EmbeddingHead head = kws::load_head(head_path);
-        double cpu = 0.0;
-        const ScoreLog log = embedding_scores(head, pcm, &cpu);
-        print_embedding_rows(log, track, embedding_thresholds, head.refractory_seconds, hours, head_rows);
-        std::printf("(embedding head \"%s\": %.1f s of CPU for %.1f s of audio, %.2f%% of one core)\n",
-                    head.keyword.c_str(), cpu, hours * 3600.0, 100.0 * cpu / (hours * 3600.0));
-      }
+      std::vector<std::vector<EvalRow>> head_rows =
+          all_embedding_rows(head_paths, pcm, track, embedding_thresholds, hours);
       {
         const Trace trace = cnn_trace(model, pcm);
         for (float th : thresholds) {
-          const Score s = score(detection_ends(trace, model.detection.smoothing_windows, th, kws::refractory_windows(model)), track);
-          std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", ("cnn \"" + model.keyword + "\"").c_str(), static_cast<double>(th),
-                      100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+          const Score s = score(detection_ends(trace, model.detection.smoothing_windows, th,
+                                               kws::refractory_windows(model)),
+                                track);
+          std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", ("cnn \"" + model.keyword + "\"").c_str(),
+                      static_cast<double>(th), 100.0 * s.miss_rate(), s.false_accepts,
+                      s.false_accepts / hours);
           cnn_rows.push_back({s.miss_rate(), s.false_accepts / hours, th});
         }
       }
@@ -499,7 +611,7 @@ int main(int argc, char** argv) {
         }
       }
       std::printf("\noperating point (lowest miss rate with under 1 false accept per hour):\n");
-      if (!head_path.empty()) print_best("embedding", head_rows);
+      print_all_best(head_paths, head_rows);
       print_best("cnn", cnn_rows);
       if (!ps_rows.empty()) print_best("pocketsphinx", ps_rows);
       std::printf("(%.2f h of audio: one false accept is %.2f FA/h)\n", hours, 1.0 / hours);
@@ -515,14 +627,17 @@ int main(int argc, char** argv) {
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
     kws::KwsModel model = kws::load_model(model_path);
     for (int sm : smoothings) {
-      if (sm < 1) throw std::runtime_error("--smoothing " + std::to_string(sm) + ": expected 1 or more windows");
+      if (sm < 1)
+        throw std::runtime_error("--smoothing " + std::to_string(sm) +
+                                 ": expected 1 or more windows");
     }
     if (smoothings.empty()) smoothings.push_back(model.detection.smoothing_windows);
     if (refractory_s >= 0.0f) model.detection.refractory_seconds = refractory_s;
     const std::vector<std::string> voices = kws::heldout_voices();
-    std::printf("model %s: keyword \"%s\", threshold %.2f, smoothing %d windows, refractory %.2f s\n",
-                model_path.c_str(), model.keyword.c_str(), static_cast<double>(model.detection.threshold),
-                model.detection.smoothing_windows, static_cast<double>(model.detection.refractory_seconds));
+    std::printf(
+        "model %s: keyword \"%s\", threshold %.2f, smoothing %d windows, refractory %.2f s\n",
+        model_path.c_str(), model.keyword.c_str(), static_cast<double>(model.detection.threshold),
+        model.detection.smoothing_windows, static_cast<double>(model.detection.refractory_seconds));
     std::printf("held-out voices: %zu (none used in training)\n", voices.size());
 
     // 1. Clips.
@@ -555,11 +670,12 @@ int main(int argc, char** argv) {
 
     // 2. Streaming.
     std::mt19937_64 rng(seed * 7919 + 17);
-    const Track track = build_track(minutes, keywords, model.keyword, voices, split.noise_pool, rng);
+    const Track track =
+        build_track(minutes, keywords, model.keyword, voices, split.noise_pool, rng);
     const std::vector<std::int16_t> pcm = marvin::audio::to_pcm16(track.audio);
     const double hours = static_cast<double>(pcm.size()) / 16000.0 / 3600.0;
-    std::printf("\nstreaming track: %.1f min, %zu keywords (%.0f s)\n", hours * 60.0, track.keywords.size(),
-                elapsed());
+    std::printf("\nstreaming track: %.1f min, %zu keywords (%.0f s)\n", hours * 60.0,
+                track.keywords.size(), elapsed());
     if (!save_track.empty()) marvin::audio::write_speech_file(save_track, pcm);
 
     // pocketsphinx in the background while the neural detector runs.
@@ -569,11 +685,16 @@ int main(int argc, char** argv) {
     const auto neural_start = Clock::now();
     const Trace trace = cnn_trace(model, pcm);
     const double neural_s = std::chrono::duration<double>(Clock::now() - neural_start).count();
-    std::printf("neural int8: %zu windows in %.1f s wall clock\n", trace.posteriors.size(), neural_s);
+    std::printf("neural int8: %zu windows in %.1f s wall clock\n", trace.posteriors.size(),
+                neural_s);
 
     std::printf("\n%-28s %9s %8s %6s %8s\n", "detector", "setting", "miss", "FA", "FA/h");
     const int refractory = kws::refractory_windows(model);
-    struct Row { double miss, fah; float setting; int smoothing; };
+    struct Row {
+      double miss, fah;
+      float setting;
+      int smoothing;
+    };
     std::vector<Row> neural_rows, ps_rows;
     for (int sm : smoothings) {
       for (float th : thresholds) {
@@ -585,23 +706,18 @@ int main(int argc, char** argv) {
         neural_rows.push_back({s.miss_rate(), s.false_accepts / hours, th, sm});
       }
     }
-    std::vector<EvalRow> head_rows;
-    if (!head_path.empty()) {
-      const kws::EmbeddingHead head = kws::load_head(head_path);
-      double cpu = 0.0;
-      const ScoreLog log = embedding_scores(head, pcm, &cpu);
-      print_embedding_rows(log, track, embedding_thresholds, head.refractory_seconds, hours, head_rows);
-      std::printf("(embedding head: %.1f s of CPU for %.1f s of audio, %.2f%% of one core)\n", cpu,
-                  hours * 3600.0, 100.0 * cpu / (hours * 3600.0));
-    }
+    const std::vector<std::vector<EvalRow>> head_rows =
+        all_embedding_rows(head_paths, pcm, track, embedding_thresholds, hours);
     if (details_threshold >= 0.0f) {
-      const Score s = score(detection_ends(trace, smoothings.front(), details_threshold, refractory), track);
+      const Score s =
+          score(detection_ends(trace, smoothings.front(), details_threshold, refractory), track);
       print_details(s, track, trace, details_threshold, smoothings.front());
     }
     for (std::size_t i = 0; i < ps_runs.size(); ++i) {
       const Score s = score(ps_runs[i].get(), track);
-      std::printf("%-28s %9.2f %7.2f%% %6d %8.2f\n", "pocketsphinx keyphrase", static_cast<double>(ps_sensitivities[i]),
-                  100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+      std::printf("%-28s %9.2f %7.2f%% %6d %8.2f\n", "pocketsphinx keyphrase",
+                  static_cast<double>(ps_sensitivities[i]), 100.0 * s.miss_rate(), s.false_accepts,
+                  s.false_accepts / hours);
       ps_rows.push_back({s.miss_rate(), s.false_accepts / hours, ps_sensitivities[i], 0});
     }
     auto best_under = [](const std::vector<Row>& rows, double fah_limit) {
@@ -620,13 +736,15 @@ int main(int argc, char** argv) {
     }
     if (!ps_rows.empty()) {
       if (const Row* r = best_under(ps_rows, 1.0)) {
-        std::printf("  pocketsphinx  sensitivity %.2f: miss %.2f%%, %.2f FA/h\n", static_cast<double>(r->setting), 100.0 * r->miss, r->fah);
+        std::printf("  pocketsphinx  sensitivity %.2f: miss %.2f%%, %.2f FA/h\n",
+                    static_cast<double>(r->setting), 100.0 * r->miss, r->fah);
       } else {
         std::printf("  pocketsphinx  none of the sensitivities stays under 1 FA/h\n");
       }
     }
-    if (!head_path.empty()) print_best("embedding", head_rows);
-    std::printf("(%.1f h of audio: one false accept is %.2f FA/h; total %.0f s)\n", hours, 1.0 / hours, elapsed());
+    print_all_best(head_paths, head_rows);
+    std::printf("(%.1f h of audio: one false accept is %.2f FA/h; total %.0f s)\n", hours,
+                1.0 / hours, elapsed());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "marvin-kws-eval: %s\n", e.what());
     return 1;

@@ -13,6 +13,8 @@
 // Synthesis runs on one thread (espeak-ng keeps global state); embedding on --threads.
 #include "train_embedding.h"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -21,12 +23,10 @@
 #include <random>
 #include <thread>
 
-#include <unistd.h>
-
 #include "devices/audio/sound_file.h"
-#include "perception/kws/augment.h"
-#include "perception/kws/dataset.h"
-#include "perception/kws/head_trainer.h"
+#include "kws/training/augment.h"
+#include "kws/training/dataset.h"
+#include "kws/training/head_trainer.h"
 #include "perception/kws/speech_embedding.h"
 
 namespace kws = marvin::perception::kws;
@@ -58,12 +58,15 @@ RawExample place(const std::vector<float>& word, const std::vector<float>* conte
   ex.label = label;
   ex.audio.assign(kExampleSamples, 0.0f);
   const float peak_db = -18.0f + 16.0f * u(rng);
-  const auto tail = static_cast<std::size_t>((tail_min_s + (tail_max_s - tail_min_s) * u(rng)) * 16000.0f);
+  const auto tail =
+      static_cast<std::size_t>((tail_min_s + (tail_max_s - tail_min_s) * u(rng)) * 16000.0f);
   if (after != nullptr && !after->empty() && tail > 3200) {
     // Speech after the word ("marvin, what time is it"), from 0.1..0.3 s after it.
-    const std::size_t begin = kExampleSamples - tail + static_cast<std::size_t>((0.1f + 0.2f * u(rng)) * 16000.0f);
+    const std::size_t begin =
+        kExampleSamples - tail + static_cast<std::size_t>((0.1f + 0.2f * u(rng)) * 16000.0f);
     const float ga = level_gain(*after, peak_db - 4.0f + 6.0f * u(rng));
-    for (std::size_t i = 0; begin + i < kExampleSamples && i < after->size(); ++i) ex.audio[begin + i] += ga * (*after)[i];
+    for (std::size_t i = 0; begin + i < kExampleSamples && i < after->size(); ++i)
+      ex.audio[begin + i] += ga * (*after)[i];
   }
   const std::size_t len = std::min(word.size(), kExampleSamples - tail - 1);
   const std::size_t start = kExampleSamples - tail - len;
@@ -75,18 +78,23 @@ RawExample place(const std::vector<float>& word, const std::vector<float>* conte
       const std::size_t end = start - gap;
       const std::size_t n = std::min(end, context->size());
       const float gc = level_gain(*context, peak_db - 6.0f + 8.0f * u(rng));
-      for (std::size_t i = 0; i < n; ++i) ex.audio[end - n + i] += gc * (*context)[context->size() - n + i];
+      for (std::size_t i = 0; i < n; ++i)
+        ex.audio[end - n + i] += gc * (*context)[context->size() - n + i];
     }
   }
-  const auto& noise = noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+  const auto& noise =
+      noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
   if (u(rng) < 0.8f) {
     kws::add_noise_at_snr(ex.audio, noise, -5.0f + 15.0f * u(rng), rng);
   } else {
-    const float floor = std::pow(10.0f, (-60.0f + 15.0f * u(rng)) / 20.0f) / std::max(kws::rms(noise), 1e-6f);
-    const std::size_t off = noise.size() > kExampleSamples
-                                ? std::uniform_int_distribution<std::size_t>(0, noise.size() - kExampleSamples)(rng)
-                                : 0;
-    for (std::size_t i = 0; i < kExampleSamples && off + i < noise.size(); ++i) ex.audio[i] += floor * noise[off + i];
+    const float floor =
+        std::pow(10.0f, (-60.0f + 15.0f * u(rng)) / 20.0f) / std::max(kws::rms(noise), 1e-6f);
+    const std::size_t off =
+        noise.size() > kExampleSamples
+            ? std::uniform_int_distribution<std::size_t>(0, noise.size() - kExampleSamples)(rng)
+            : 0;
+    for (std::size_t i = 0; i < kExampleSamples && off + i < noise.size(); ++i)
+      ex.audio[i] += floor * noise[off + i];
   }
   for (float& v : ex.audio) v = std::clamp(v, -1.0f, 1.0f);
   return ex;
@@ -94,7 +102,8 @@ RawExample place(const std::vector<float>& word, const std::vector<float>* conte
 
 // The last 16 embeddings of each example, on `threads` threads (each example its own stream).
 kws::HeadSet embed_examples(const std::vector<RawExample>& examples,
-                            const std::shared_ptr<const kws::EmbeddingModels>& models, int threads) {
+                            const std::shared_ptr<const kws::EmbeddingModels>& models,
+                            int threads) {
   std::vector<std::vector<float>> inputs(examples.size());
   std::vector<std::thread> pool;
   for (int t = 0; t < threads; ++t) {
@@ -102,11 +111,13 @@ kws::HeadSet embed_examples(const std::vector<RawExample>& examples,
       kws::EmbeddingStream stream(models);
       std::vector<kws::Embedding> out;
       std::vector<float> scaled(kExampleSamples);
-      for (std::size_t k = static_cast<std::size_t>(t); k < examples.size(); k += static_cast<std::size_t>(threads)) {
+      for (std::size_t k = static_cast<std::size_t>(t); k < examples.size();
+           k += static_cast<std::size_t>(threads)) {
         stream.reset();
         stream.skip_embeddings(kExampleHops - kws::kHeadEmbeddings);
         out.clear();
-        for (std::size_t i = 0; i < kExampleSamples; ++i) scaled[i] = examples[k].audio[i] * 32768.0f;
+        for (std::size_t i = 0; i < kExampleSamples; ++i)
+          scaled[i] = examples[k].audio[i] * 32768.0f;
         stream.push(scaled, out);
         auto& in = inputs[k];
         in.reserve(kws::kHeadInputs);
@@ -124,7 +135,8 @@ kws::HeadSet embed_examples(const std::vector<RawExample>& examples,
 
 // Windows of 16 consecutive embeddings of a long keyword-free stream, every `stride`-th.
 kws::HeadSet stream_negatives(const std::vector<float>& audio,
-                              const std::shared_ptr<const kws::EmbeddingModels>& models, int stride) {
+                              const std::shared_ptr<const kws::EmbeddingModels>& models,
+                              int stride) {
   kws::EmbeddingStream stream(models);
   std::vector<kws::Embedding> out;
   std::vector<float> scaled(audio.size());
@@ -133,14 +145,66 @@ kws::HeadSet stream_negatives(const std::vector<float>& audio,
   kws::HeadSet set;
   std::vector<float> in(kws::kHeadInputs);
   // Skip the first 10 embeddings (the mel buffer still holds its initial ones).
-  for (std::size_t end = 10 + kws::kHeadEmbeddings; end <= out.size(); end += static_cast<std::size_t>(stride)) {
+  for (std::size_t end = 10 + kws::kHeadEmbeddings; end <= out.size();
+       end += static_cast<std::size_t>(stride)) {
     for (std::size_t e = 0; e < static_cast<std::size_t>(kws::kHeadEmbeddings); ++e) {
-      std::copy(out[end - kws::kHeadEmbeddings + e].begin(), out[end - kws::kHeadEmbeddings + e].end(),
+      std::copy(out[end - kws::kHeadEmbeddings + e].begin(),
+                out[end - kws::kHeadEmbeddings + e].end(),
                 in.begin() + static_cast<std::ptrdiff_t>(e * kws::kEmbeddingSize));
     }
     set.add(in, 0.0f);
   }
   return set;
+}
+
+struct MineResult {
+  kws::HeadSet set;
+  std::size_t windows = 0, over_half = 0;
+};
+
+// Every window of 16 embeddings of `audio` (keyword-free) that `head` scores >= floor.
+MineResult mine_stream(const std::vector<float>& audio,
+                       const std::shared_ptr<const kws::EmbeddingModels>& models,
+                       const kws::EmbeddingHead& head, float floor) {
+  kws::EmbeddingStream stream(models);
+  std::vector<kws::Embedding> out;
+  std::vector<float> scaled(audio.size());
+  for (std::size_t i = 0; i < audio.size(); ++i) scaled[i] = audio[i] * 32768.0f;
+  stream.push(scaled, out);
+  MineResult r;
+  std::vector<float> in(kws::kHeadInputs);
+  for (std::size_t end = 10 + kws::kHeadEmbeddings; end <= out.size(); ++end) {
+    for (std::size_t e = 0; e < static_cast<std::size_t>(kws::kHeadEmbeddings); ++e) {
+      std::copy(out[end - kws::kHeadEmbeddings + e].begin(),
+                out[end - kws::kHeadEmbeddings + e].end(),
+                in.begin() + static_cast<std::ptrdiff_t>(e * kws::kEmbeddingSize));
+    }
+    ++r.windows;
+    const float s = head.score(in);
+    if (s >= floor) r.set.add(in, 0.0f);
+    if (s >= 0.5f) ++r.over_half;
+  }
+  return r;
+}
+
+// Recordings one after another, 0.2..1.5 s apart, over background noise at an SNR in
+// [-5, 10] dB (80 % of the time) or quiet, each at -18..-2 dBFS peak.
+std::vector<float> real_stream(const std::vector<std::vector<float>>& recordings,
+                               const std::vector<std::vector<float>>& noise_pool,
+                               std::mt19937_64& rng) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> audio;
+  for (const auto& r : recordings) {
+    std::vector<float> piece(static_cast<std::size_t>((0.2f + 1.3f * u(rng)) * 16000.0f), 0.0f);
+    const float g = level_gain(r, -18.0f + 16.0f * u(rng));
+    for (float v : r) piece.push_back(g * v);
+    const auto& noise =
+        noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+    if (u(rng) < 0.8f) kws::add_noise_at_snr(piece, noise, -5.0f + 15.0f * u(rng), rng);
+    for (float& v : piece) v = std::clamp(v, -1.0f, 1.0f);
+    audio.insert(audio.end(), piece.begin(), piece.end());
+  }
+  return audio;
 }
 
 double head_seconds_since(std::chrono::steady_clock::time_point t) {
@@ -149,11 +213,13 @@ double head_seconds_since(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
-std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& folder, std::size_t limit) {
+std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& folder,
+                                                  std::size_t limit) {
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::directory_iterator(folder)) {
     const std::string ext = e.path().extension().string();
-    if (e.is_regular_file() && (ext == ".wav" || ext == ".flac" || ext == ".WAV" || ext == ".FLAC")) {
+    if (e.is_regular_file() &&
+        (ext == ".wav" || ext == ".flac" || ext == ".WAV" || ext == ".FLAC")) {
       files.push_back(e.path());
     }
   }
@@ -180,31 +246,60 @@ int train_embedding_main(int argc, char** argv) {
   float threshold = 0.5f, refractory = 2.0f;
   bool embedding = true;
   kws::HeadTrainOptions topt;
+  std::vector<std::string> feature_files, mine_dirs;
+  std::string save_features, mine_head_path;
+  double mine_minutes = 0.0;
+  float mine_floor = 0.1f;
+  int mine_copies = 1;
   topt.epochs = 30;
   app.add_flag("--embedding", embedding, "train the embedding wake word's head (this recipe)");
   app.add_option("--keyword", keyword, "what is said (lower case)")->capture_default_str();
   app.add_option("--out", out, "head file to write")->capture_default_str();
   app.add_option("--seed", seed)->capture_default_str();
   app.add_option("--positives", positives, "synthesised keyword examples")->capture_default_str();
-  app.add_option("--negatives", negatives, "synthesised other-speech examples")->capture_default_str();
+  app.add_option("--negatives", negatives, "synthesised other-speech examples")
+      ->capture_default_str();
   app.add_option("--negative-minutes", negative_minutes,
-                 "minutes of keyword-free synthetic conversation, cut into windows")->capture_default_str();
+                 "minutes of keyword-free synthetic conversation, cut into windows")
+      ->capture_default_str();
   app.add_option("--late-keywords", late_keywords,
-                 "negatives where the keyword ended 0.45..1.2 s before the window's end")->capture_default_str();
+                 "negatives where the keyword ended 0.45..1.2 s before the window's end")
+      ->capture_default_str();
   app.add_option("--conversation-stride", conversation_stride,
-                 "take every N-th window of the conversation")->capture_default_str();
-  app.add_option("--negatives-dir", negative_dirs, "folders of real recordings of other words (negatives)");
-  app.add_option("--real-copies", real_copies, "examples made from each real recording")->capture_default_str();
-  app.add_option("--noise-examples", noise_examples, "background-noise-only examples")->capture_default_str();
+                 "take every N-th window of the conversation")
+      ->capture_default_str();
+  app.add_option("--negatives-dir", negative_dirs,
+                 "folders of real recordings of other words (negatives)");
+  app.add_option("--real-copies", real_copies, "examples made from each real recording")
+      ->capture_default_str();
+  app.add_option("--noise-examples", noise_examples, "background-noise-only examples")
+      ->capture_default_str();
   app.add_option("--noise", noise_dir, "folder of background-noise recordings (else generated)");
   app.add_option("--hidden", topt.hidden)->capture_default_str();
   app.add_option("--epochs", topt.epochs)->capture_default_str();
   app.add_option("--batch", topt.batch)->capture_default_str();
   app.add_option("--lr", topt.learning_rate)->capture_default_str();
   app.add_option("--positive-weight", topt.positive_weight)->capture_default_str();
-  app.add_option("--threshold", threshold, "detection threshold stored in the head")->capture_default_str();
-  app.add_option("--refractory", refractory, "seconds without a second detection")->capture_default_str();
+  app.add_option("--threshold", threshold, "detection threshold stored in the head")
+      ->capture_default_str();
+  app.add_option("--refractory", refractory, "seconds without a second detection")
+      ->capture_default_str();
   app.add_option("--threads", threads, "threads for the embeddings")->capture_default_str();
+  app.add_option("--final-negative-weight", topt.final_negative_weight,
+                 "negatives' loss weight in the last epoch (linear from 1)")
+      ->capture_default_str();
+  app.add_option("--features", feature_files,
+                 "train from these feature files (--save-features) instead of synthesising");
+  app.add_option("--save-features", save_features,
+                 "write every example's 16 embeddings (after mining) to this file");
+  app.add_option("--mine-head", mine_head_path,
+                 "hard-negative mining: windows this head scores >= --mine-floor become negatives");
+  app.add_option("--mine-minutes", mine_minutes,
+                 "minutes of keyword-free synthetic conversation (training voices) to mine")
+      ->capture_default_str();
+  app.add_option("--mine-dir", mine_dirs, "folders of real recordings of other words to mine");
+  app.add_option("--mine-floor", mine_floor)->capture_default_str();
+  app.add_option("--mine-copies", mine_copies)->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     const auto start = std::chrono::steady_clock::now();
@@ -226,69 +321,110 @@ int train_embedding_main(int argc, char** argv) {
     others.erase(std::remove(others.begin(), others.end(), keyword), others.end());
     auto other_text = [&]() -> std::string {
       const float r = u(rng);
-      if (r < 0.4f) return others[std::uniform_int_distribution<std::size_t>(0, others.size() - 1)(rng)];
+      if (r < 0.4f)
+        return others[std::uniform_int_distribution<std::size_t>(0, others.size() - 1)(rng)];
       if (r < 0.7f) return kws::varied_sentence(rng);
       return kws::random_sentence(rng);
     };
-    std::vector<RawExample> raw;
-    for (int k = 0; k < positives; ++k) {
-      const std::vector<float> w = say(keyword);
-      const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
-      raw.push_back(place(w, &ctx, 1.0f, noise_pool, rng));
-    }
-    // The keyword heard too long ago (it ended 0.45..1.2 s before), alone or followed by a
-    // command: not a detection now, or a keyword followed by speech fires twice.
-    for (int k = 0; k < late_keywords; ++k) {
-      const std::vector<float> w = say(keyword);
-      const std::vector<float> after = u(rng) < 0.7f ? say(other_text()) : std::vector<float>{};
-      raw.push_back(place(w, nullptr, 0.0f, noise_pool, rng, 0.45f, 1.2f, &after));
-    }
-    std::printf("%d keyword examples, %d late-keyword examples synthesised (%.0f s)\n", positives,
-                late_keywords, head_seconds_since(start));
-    std::fflush(stdout);
-    for (int k = 0; k < negatives; ++k) {
-      std::vector<float> w = say(other_text());
-      // A sentence ending, or a 0.5..1.5 s piece from its middle.
-      if (w.size() > 24000 && u(rng) < 0.5f) {
-        const auto n = static_cast<std::size_t>((0.5f + u(rng)) * 16000.0f);
-        const auto at = std::uniform_int_distribution<std::size_t>(0, w.size() - n)(rng);
-        w = std::vector<float>(w.begin() + static_cast<std::ptrdiff_t>(at), w.begin() + static_cast<std::ptrdiff_t>(at + n));
-      }
-      const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
-      raw.push_back(place(w, &ctx, 0.0f, noise_pool, rng));
-    }
-    for (int k = 0; k < noise_examples; ++k) raw.push_back(place({}, nullptr, 0.0f, noise_pool, rng));
-    std::printf("%d other-speech and %d noise examples synthesised (%.0f s)\n", negatives, noise_examples,
-                head_seconds_since(start));
+    kws::HeadSet all;
     std::size_t real = 0;
-    for (const auto& dir : negative_dirs) {
-      const auto recordings = read_sound_folder(dir, 0);
-      for (int c = 0; c < real_copies; ++c) {
-        for (const auto& r : recordings) raw.push_back(place(r, nullptr, 0.0f, noise_pool, rng));
-      }
-      real += recordings.size() * static_cast<std::size_t>(real_copies);
-      std::printf("%zu real recordings from %s\n", recordings.size(), dir.c_str());
+    for (const auto& f : feature_files) {
+      all.append(kws::load_head_set(f));
+      std::printf("%s: %zu cached examples\n", f.c_str(), all.size());
     }
-    const std::vector<float> conversation =
-        negative_minutes > 0.0 ? kws::negative_speech(negative_minutes * 60.0, voices, noise_pool, rng)
-                               : std::vector<float>{};
-    std::printf("%.1f min of keyword-free conversation synthesised (%.0f s)\n", negative_minutes,
-                head_seconds_since(start));
-    std::fflush(stdout);
-    kws::HeadSet all = embed_examples(raw, models, threads);
-    if (!conversation.empty()) all.append(stream_negatives(conversation, models, conversation_stride));
+    if (feature_files.empty()) {
+      std::vector<RawExample> raw;
+      for (int k = 0; k < positives; ++k) {
+        const std::vector<float> w = say(keyword);
+        const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
+        raw.push_back(place(w, &ctx, 1.0f, noise_pool, rng));
+      }
+      // The keyword heard too long ago (it ended 0.45..1.2 s before), alone or followed by a
+      // command: not a detection now, or a keyword followed by speech fires twice.
+      for (int k = 0; k < late_keywords; ++k) {
+        const std::vector<float> w = say(keyword);
+        const std::vector<float> after = u(rng) < 0.7f ? say(other_text()) : std::vector<float>{};
+        raw.push_back(place(w, nullptr, 0.0f, noise_pool, rng, 0.45f, 1.2f, &after));
+      }
+      std::printf("%d keyword examples, %d late-keyword examples synthesised (%.0f s)\n", positives,
+                  late_keywords, head_seconds_since(start));
+      std::fflush(stdout);
+      for (int k = 0; k < negatives; ++k) {
+        std::vector<float> w = say(other_text());
+        // A sentence ending, or a 0.5..1.5 s piece from its middle.
+        if (w.size() > 24000 && u(rng) < 0.5f) {
+          const auto n = static_cast<std::size_t>((0.5f + u(rng)) * 16000.0f);
+          const auto at = std::uniform_int_distribution<std::size_t>(0, w.size() - n)(rng);
+          w = std::vector<float>(w.begin() + static_cast<std::ptrdiff_t>(at),
+                                 w.begin() + static_cast<std::ptrdiff_t>(at + n));
+        }
+        const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
+        raw.push_back(place(w, &ctx, 0.0f, noise_pool, rng));
+      }
+      for (int k = 0; k < noise_examples; ++k)
+        raw.push_back(place({}, nullptr, 0.0f, noise_pool, rng));
+      std::printf("%d other-speech and %d noise examples synthesised (%.0f s)\n", negatives,
+                  noise_examples, head_seconds_since(start));
+      for (const auto& dir : negative_dirs) {
+        const auto recordings = read_sound_folder(dir, 0);
+        for (int c = 0; c < real_copies; ++c) {
+          for (const auto& r : recordings) raw.push_back(place(r, nullptr, 0.0f, noise_pool, rng));
+        }
+        real += recordings.size() * static_cast<std::size_t>(real_copies);
+        std::printf("%zu real recordings from %s\n", recordings.size(), dir.c_str());
+      }
+      const std::vector<float> conversation =
+          negative_minutes > 0.0
+              ? kws::negative_speech(negative_minutes * 60.0, voices, noise_pool, rng)
+              : std::vector<float>{};
+      std::printf("%.1f min of keyword-free conversation synthesised (%.0f s)\n", negative_minutes,
+                  head_seconds_since(start));
+      std::fflush(stdout);
+      all = embed_examples(raw, models, threads);
+      if (!conversation.empty())
+        all.append(stream_negatives(conversation, models, conversation_stride));
+    }
+    if (!mine_head_path.empty()) {
+      // Hard negatives: every window of keyword-free speech the previous head scores at or
+      // over the floor (openWakeWord's recipe), from synthetic conversation in training
+      // voices and from real recordings of other words.
+      const kws::EmbeddingHead mine_head = kws::load_head(mine_head_path);
+      std::vector<std::pair<std::string, std::vector<float>>> streams;
+      if (mine_minutes > 0.0) {
+        streams.emplace_back("synthetic conversation",
+                             kws::negative_speech(mine_minutes * 60.0, voices, noise_pool, rng));
+      }
+      for (const auto& dir : mine_dirs) {
+        streams.emplace_back(dir, real_stream(read_sound_folder(dir, 0), noise_pool, rng));
+      }
+      for (const auto& [name, audio] : streams) {
+        const MineResult m = mine_stream(audio, models, mine_head, mine_floor);
+        for (int c = 0; c < mine_copies; ++c) all.append(m.set);
+        std::printf("mined %s: %.1f min, %zu windows, %zu scored >= %.2f (%zu >= 0.5) (%.0f s)\n",
+                    name.c_str(), static_cast<double>(audio.size()) / 16000.0 / 60.0, m.windows,
+                    m.set.size(), static_cast<double>(mine_floor), m.over_half,
+                    head_seconds_since(start));
+        std::fflush(stdout);
+      }
+    }
+    if (!save_features.empty()) {
+      kws::save_head_set(save_features, all);
+      std::printf("saved %zu examples to %s\n", all.size(), save_features.c_str());
+    }
     std::size_t pos = 0;
     for (float l : all.labels) pos += l > 0.5f ? 1 : 0;
-    std::printf("embedded: %zu examples, %zu positive, %zu negative (%zu real) (%.0f s)\n", all.size(), pos,
-                all.size() - pos, real, head_seconds_since(start));
+    std::printf("embedded: %zu examples, %zu positive, %zu negative (%zu real) (%.0f s)\n",
+                all.size(), pos, all.size() - pos, real, head_seconds_since(start));
     // Split 9:1 by a seeded shuffle for the held-back accuracy.
     std::vector<std::size_t> order(all.size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
     std::shuffle(order.begin(), order.end(), rng);
     kws::HeadSet train, test;
     for (std::size_t k = 0; k < order.size(); ++k) {
-      (k % 10 == 0 ? test : train).add(std::span<const float>(all.inputs).subspan(order[k] * kws::kHeadInputs, kws::kHeadInputs),
-                                       all.labels[order[k]]);
+      (k % 10 == 0 ? test : train)
+          .add(std::span<const float>(all.inputs)
+                   .subspan(order[k] * kws::kHeadInputs, kws::kHeadInputs),
+               all.labels[order[k]]);
     }
     topt.seed = seed;
     int last_pct = -1;
@@ -308,8 +444,10 @@ int train_embedding_main(int argc, char** argv) {
     head.refractory_seconds = refractory;
     for (float th : {0.5f, 0.8f, 0.9f, 0.95f}) {
       const kws::HeadAccuracy a = kws::head_accuracy(head, test, th);
-      std::printf("held-back tenth (%zu examples), threshold %.2f: keyword %.2f%% detected, others %.2f%% rejected\n",
-                  test.size(), static_cast<double>(th), 100.0 * a.positives, 100.0 * a.negatives);
+      std::printf(
+          "held-back tenth (%zu examples), threshold %.2f: keyword %.2f%% detected, others %.2f%% "
+          "rejected\n",
+          test.size(), static_cast<double>(th), 100.0 * a.positives, 100.0 * a.negatives);
     }
     kws::save_head(out, head);
     std::printf("wrote %s (%ju bytes, keyword \"%s\", threshold %.2f) in %.0f s\n", out.c_str(),

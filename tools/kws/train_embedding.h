@@ -10,4 +10,5 @@
 int train_embedding_main(int argc, char** argv);
 
 // Sound files (WAV/FLAC/...) of a folder, sorted, read as 16 kHz mono float in [-1, 1].
-std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& folder, std::size_t limit);
+std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& folder,
+                                                  std::size_t limit);

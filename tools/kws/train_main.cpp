@@ -8,9 +8,9 @@
 // epoch, test accuracy after each) -> the epoch with the best test accuracy is kept ->
 // activation calibration -> int8 per-channel quantisation -> float and int8 accuracy on the
 // eval split -> model file(s).
-#include <CLI/CLI.hpp>
+#include <unistd.h>
 
-#include "train_embedding.h"
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,12 +22,11 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
-#include "perception/kws/dataset.h"
-#include "perception/kws/generated_voices.h"
+#include "kws/training/dataset.h"
+#include "kws/training/generated_voices.h"
+#include "kws/training/trainer.h"
 #include "perception/kws/model_file.h"
-#include "perception/kws/trainer.h"
+#include "train_embedding.h"
 
 namespace kws = marvin::perception::kws;
 
@@ -40,9 +39,10 @@ double seconds_since(Clock::time_point t) {
 }
 
 void print_accuracy(const char* name, const kws::Accuracy& a) {
-  std::printf("%-12s overall %6.2f%%  keyword %6.2f%%  unknown %6.2f%%  silence %6.2f%%  noise %6.2f%%\n",
-              name, 100.0 * a.overall, 100.0 * a.per_class(0), 100.0 * a.per_class(1),
-              100.0 * a.per_class(2), 100.0 * a.per_class(3));
+  std::printf(
+      "%-12s overall %6.2f%%  keyword %6.2f%%  unknown %6.2f%%  silence %6.2f%%  noise %6.2f%%\n",
+      name, 100.0 * a.overall, 100.0 * a.per_class(0), 100.0 * a.per_class(1),
+      100.0 * a.per_class(2), 100.0 * a.per_class(3));
 }
 
 }  // namespace
@@ -59,22 +59,30 @@ int main(int argc, char** argv) {
   int epochs = 12, max_per_word = 0;
   float threshold = 0.6f;
   int smoothing = 3;
-  app.add_option("--data", data_dir, "Speech Commands-style folder (one folder of WAVs per word, "
-                                     "_background_noise_); synthesised with espeak-ng if absent");
+  app.add_option("--data", data_dir,
+                 "Speech Commands-style folder (one folder of WAVs per word, "
+                 "_background_noise_); synthesised with espeak-ng if absent");
   app.add_option("--noise", noise_dir, "folder of background-noise WAVs (else generated)");
   app.add_option("--out", out, "int8 model file to write")->capture_default_str();
   app.add_option("--float-out", float_out, "also write the float model here");
-  app.add_option("--keyword", dopt.keyword, "keyword (folder name with --data)")->capture_default_str();
-  app.add_option("--seed", dopt.seed, "seed for data, initialisation and order")->capture_default_str();
-  app.add_option("--keyword-clips", dopt.keyword_clips, "synthesised keyword utterances")->capture_default_str();
-  app.add_option("--unknown-clips", dopt.unknown_clips, "synthesised other words / sentence pieces")->capture_default_str();
+  app.add_option("--keyword", dopt.keyword, "keyword (folder name with --data)")
+      ->capture_default_str();
+  app.add_option("--seed", dopt.seed, "seed for data, initialisation and order")
+      ->capture_default_str();
+  app.add_option("--keyword-clips", dopt.keyword_clips, "synthesised keyword utterances")
+      ->capture_default_str();
+  app.add_option("--unknown-clips", dopt.unknown_clips, "synthesised other words / sentence pieces")
+      ->capture_default_str();
   app.add_option("--silence-clips", dopt.silence_clips)->capture_default_str();
   app.add_option("--noise-clips", dopt.noise_clips)->capture_default_str();
-  app.add_option("--copies", dopt.augmented_copies, "augmented training examples per training clip")->capture_default_str();
-  app.add_option("--max-per-word", max_per_word, "with --data: at most this many files per word (0 = all)");
+  app.add_option("--copies", dopt.augmented_copies, "augmented training examples per training clip")
+      ->capture_default_str();
+  app.add_option("--max-per-word", max_per_word,
+                 "with --data: at most this many files per word (0 = all)");
   app.add_option("--epochs", epochs)->capture_default_str();
   app.add_option("--batch", topt.batch_size)->capture_default_str();
-  app.add_option("--lr", topt.learning_rate, "Adam learning rate (cosine-decayed to 5%)")->capture_default_str();
+  app.add_option("--lr", topt.learning_rate, "Adam learning rate (cosine-decayed to 5%)")
+      ->capture_default_str();
   app.add_option("--weight-decay", topt.weight_decay)->capture_default_str();
   app.add_option("--freq-mask", topt.freq_mask_bins,
                  "SpecAugment: each example, every epoch, loses a band of up to this many mel bins")
@@ -88,30 +96,38 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0f, 1.0f))
       ->capture_default_str();
   app.add_option("--threads", topt.threads)->capture_default_str();
-  app.add_option("--threshold", threshold, "detection threshold stored in the model")->capture_default_str();
-  app.add_option("--smoothing", smoothing, "posterior smoothing windows stored in the model")->capture_default_str();
+  app.add_option("--threshold", threshold, "detection threshold stored in the model")
+      ->capture_default_str();
+  app.add_option("--smoothing", smoothing, "posterior smoothing windows stored in the model")
+      ->capture_default_str();
   app.add_option("--context", dopt.context_probability,
-                 "probability of speech around a word in its window")->capture_default_str();
+                 "probability of speech around a word in its window")
+      ->capture_default_str();
   app.add_flag("--random-sentences", dopt.random_sentences,
                "half the sentence pieces from random word sequences");
-  app.add_option("--init", init, "start from this float model's weights and normalisation "
-                                 "(fine-tuning) instead of random weights");
+  app.add_option("--init", init,
+                 "start from this float model's weights and normalisation "
+                 "(fine-tuning) instead of random weights");
   double mine_minutes = 0.0;
   float mine_floor = 0.05f, mine_keep = 0.02f;
   int mine_copies = 2;
   app.add_option("--mine-minutes", mine_minutes,
                  "hard-negative mining (needs --init): this much keyword-free speech in training "
-                 "voices, cut into streaming windows, scored by the --init model")->capture_default_str();
+                 "voices, cut into streaming windows, scored by the --init model")
+      ->capture_default_str();
   app.add_option("--mine-floor", mine_floor,
-                 "mined windows whose keyword posterior reaches this join the unknown class")->capture_default_str();
-  app.add_option("--mine-keep", mine_keep,
-                 "fraction of the other mined windows that join it too")->capture_default_str();
-  app.add_option("--mine-copies", mine_copies, "copies of each hard mined window")->capture_default_str();
+                 "mined windows whose keyword posterior reaches this join the unknown class")
+      ->capture_default_str();
+  app.add_option("--mine-keep", mine_keep, "fraction of the other mined windows that join it too")
+      ->capture_default_str();
+  app.add_option("--mine-copies", mine_copies, "copies of each hard mined window")
+      ->capture_default_str();
   int generated_voices = 0;
   std::string voices_dir;
   app.add_option("--generated-voices", generated_voices,
                  "also train (and mine) on this many random espeak-ng variants (formants, pitch, "
-                 "voicing) of each training accent; none of them is a held-out voice")->capture_default_str();
+                 "voicing) of each training accent; none of them is a held-out voice")
+      ->capture_default_str();
   app.add_option("--voices-dir", voices_dir,
                  "with --generated-voices: where the private espeak-ng data goes (must not exist; "
                  "default: a temporary directory, removed at exit)");
@@ -124,8 +140,9 @@ int main(int argc, char** argv) {
     }
     if (mine_minutes < 0.0 || !(mine_floor > 0.0f && mine_floor <= 1.0f) || mine_keep < 0.0f ||
         mine_keep > 1.0f || mine_copies < 1) {
-      throw std::runtime_error("--mine-minutes must be >= 0, --mine-floor in (0, 1], --mine-keep in "
-                               "[0, 1], --mine-copies >= 1");
+      throw std::runtime_error(
+          "--mine-minutes must be >= 0, --mine-floor in (0, 1], --mine-keep in "
+          "[0, 1], --mine-copies >= 1");
     }
     // Removes the temporary espeak-ng data directory however main() ends.
     struct RemoveAtExit {
@@ -136,28 +153,34 @@ int main(int argc, char** argv) {
       }
     } temporary_voices;
     if (generated_voices > 0) {
-      if (!data_dir.empty()) throw std::runtime_error("--generated-voices is for synthesised data, not --data");
+      if (!data_dir.empty())
+        throw std::runtime_error("--generated-voices is for synthesised data, not --data");
       std::filesystem::path dir = voices_dir;
       if (dir.empty()) {
-        dir = std::filesystem::temp_directory_path() / ("marvin-kws-voices-" + std::to_string(::getpid()));
+        dir = std::filesystem::temp_directory_path() /
+              ("marvin-kws-voices-" + std::to_string(::getpid()));
         temporary_voices.path = dir;
       }
-      const std::vector<std::string> variants = kws::install_generated_variants(generated_voices, dopt.seed, dir);
+      const std::vector<std::string> variants =
+          kws::install_generated_variants(generated_voices, dopt.seed, dir);
       kws::use_espeak_data(dir);
       dopt.voices = kws::training_voices();
-      for (const std::string& v : kws::voices_with_variants(kws::training_accents(), variants)) dopt.voices.push_back(v);
-      std::printf("voices: %zu (%d generated variants x %zu accents added)\n", dopt.voices.size(), generated_voices,
-                  kws::training_accents().size());
+      for (const std::string& v : kws::voices_with_variants(kws::training_accents(), variants))
+        dopt.voices.push_back(v);
+      std::printf("voices: %zu (%d generated variants x %zu accents added)\n", dopt.voices.size(),
+                  generated_voices, kws::training_accents().size());
     }
     const auto start = Clock::now();
     dopt.noise_folder = noise_dir;
     dopt.log = [&](const std::string& s) {
       std::fprintf(stderr, "[%6.1fs] data: %s\n", seconds_since(start), s.c_str());
     };
-    kws::SplitClips clips = data_dir.empty() ? kws::synthesize_dataset(dopt)
-                                             : kws::read_speech_commands(data_dir, dopt, max_per_word);
-    std::printf("clips: train %zu (augmented x%d), test %zu, eval %zu; %.1f s\n", clips.train.size(),
-                dopt.augmented_copies, clips.test.size(), clips.eval.size(), seconds_since(start));
+    kws::SplitClips clips = data_dir.empty()
+                                ? kws::synthesize_dataset(dopt)
+                                : kws::read_speech_commands(data_dir, dopt, max_per_word);
+    std::printf("clips: train %zu (augmented x%d), test %zu, eval %zu; %.1f s\n",
+                clips.train.size(), dopt.augmented_copies, clips.test.size(), clips.eval.size(),
+                seconds_since(start));
     kws::TrainingSet train = kws::clips_to_inputs(clips.train, topt.threads);
     kws::TrainingSet test = kws::clips_to_inputs(clips.test, topt.threads);
     kws::TrainingSet eval = kws::clips_to_inputs(clips.eval, topt.threads);
@@ -165,7 +188,8 @@ int main(int argc, char** argv) {
     clips = {};
     std::optional<kws::KwsModel> start_model;
     if (!init.empty()) start_model = kws::load_model(init);
-    const kws::Normalisation norm = start_model ? start_model->normalisation : kws::compute_normalisation(train);
+    const kws::Normalisation norm =
+        start_model ? start_model->normalisation : kws::compute_normalisation(train);
     kws::normalise(train, norm);
     kws::normalise(test, norm);
     kws::normalise(eval, norm);
@@ -174,10 +198,12 @@ int main(int argc, char** argv) {
       // Hard negatives: the windows of keyword-free speech the starting model takes for the
       // keyword (what fires in a stream), plus a few ordinary ones so the rest stays known.
       std::mt19937_64 mine_rng(dopt.seed ^ 0x4D494E45ull);
-      const std::vector<std::string> voices = dopt.voices.empty() ? kws::training_voices() : dopt.voices;
-      const std::vector<float> speech = kws::negative_speech(mine_minutes * 60.0, voices, noise_pool, mine_rng);
-      kws::TrainingSet windows =
-          kws::stream_windows(speech, start_model->features.hop_frames, static_cast<int>(kws::KwsClass::unknown));
+      const std::vector<std::string> voices =
+          dopt.voices.empty() ? kws::training_voices() : dopt.voices;
+      const std::vector<float> speech =
+          kws::negative_speech(mine_minutes * 60.0, voices, noise_pool, mine_rng);
+      kws::TrainingSet windows = kws::stream_windows(speech, start_model->features.hop_frames,
+                                                     static_cast<int>(kws::KwsClass::unknown));
       kws::normalise(windows, norm);
       kws::FloatInference scorer(start_model->network);
       std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -195,15 +221,17 @@ int main(int argc, char** argv) {
           ++kept;
         }
       }
-      std::printf("mined %.1f min of speech: %zu windows, %zu with keyword posterior >= %.2f (%zu >= 0.5), "
-                  "%zu examples added; %.1f s\n",
-                  mine_minutes, windows.size(), hard, static_cast<double>(mine_floor), over_half, kept,
-                  seconds_since(start));
+      std::printf(
+          "mined %.1f min of speech: %zu windows, %zu with keyword posterior >= %.2f (%zu >= 0.5), "
+          "%zu examples added; %.1f s\n",
+          mine_minutes, windows.size(), hard, static_cast<double>(mine_floor), over_half, kept,
+          seconds_since(start));
       std::fflush(stdout);
     }
     std::fflush(stdout);
 
-    kws::FloatNetwork net = start_model ? start_model->network : kws::make_initialised_network(dopt.seed);
+    kws::FloatNetwork net =
+        start_model ? start_model->network : kws::make_initialised_network(dopt.seed);
     std::printf("network: %zu parameters\n", net.parameter_count());
     kws::Trainer trainer(net, topt);
     std::mt19937_64 order_rng(dopt.seed ^ 0x5DEECE66Dull);
@@ -211,8 +239,9 @@ int main(int argc, char** argv) {
     double best_test = -1.0;
     for (int e = 0; e < epochs; ++e) {
       const float lr = topt.learning_rate *
-                       (0.05f + 0.95f * 0.5f * (1.0f + std::cos(3.14159265f * static_cast<float>(e) /
-                                                                static_cast<float>(std::max(1, epochs)))));
+                       (0.05f + 0.95f * 0.5f *
+                                    (1.0f + std::cos(3.14159265f * static_cast<float>(e) /
+                                                     static_cast<float>(std::max(1, epochs)))));
       trainer.set_learning_rate(lr);
       const auto epoch_start = Clock::now();
       int last_pct = -1;
@@ -223,15 +252,17 @@ int main(int argc, char** argv) {
             last_pct = pct;
             constexpr int width = 30;
             const int fill = pct * width / 100;
-            std::fprintf(stderr, "\repoch %2d/%d [%.*s%*s] %3d%% loss %.4f acc %6.2f%% %5.0fs", e + 1,
-                         epochs, fill, "##############################", width - fill, "", pct, loss,
-                         100.0 * acc, seconds_since(epoch_start));
+            std::fprintf(stderr, "\repoch %2d/%d [%.*s%*s] %3d%% loss %.4f acc %6.2f%% %5.0fs",
+                         e + 1, epochs, fill, "##############################", width - fill, "",
+                         pct, loss, 100.0 * acc, seconds_since(epoch_start));
           });
       const kws::Accuracy t = kws::evaluate_float(net, test);
       std::fprintf(stderr, "\n");
-      std::printf("epoch %2d/%d  lr %.2e  loss %.4f  train acc %6.2f%%  test acc %6.2f%%  (%.0f s, total %.0f s)\n",
-                  e + 1, epochs, static_cast<double>(lr), s.loss, 100.0 * s.accuracy, 100.0 * t.overall,
-                  seconds_since(epoch_start), seconds_since(start));
+      std::printf(
+          "epoch %2d/%d  lr %.2e  loss %.4f  train acc %6.2f%%  test acc %6.2f%%  (%.0f s, total "
+          "%.0f s)\n",
+          e + 1, epochs, static_cast<double>(lr), s.loss, 100.0 * s.accuracy, 100.0 * t.overall,
+          seconds_since(epoch_start), seconds_since(start));
       std::fflush(stdout);
       if (t.overall > best_test) {
         best_test = t.overall;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <vector>
 
@@ -29,10 +30,21 @@ struct HeadTrainOptions {
   // Weight of each positive example's loss relative to a negative's (negatives outnumber
   // positives; a false accept costs more than a miss, so not fully balanced by default).
   float positive_weight = 1.0f;
+  // Weight of a negative's loss in the last epoch, reached linearly from 1 in the first
+  // (openWakeWord raises the negative weight as training goes on: first learn the keyword,
+  // then push the false accepts down). 1 keeps it constant.
+  float final_negative_weight = 1.0f;
   std::uint64_t seed = 1;
   // Called after each batch: (epoch, batches done, batches per epoch, mean loss so far).
   std::function<void(int, std::size_t, std::size_t, double)> progress;
 };
+
+// The feature cache: a HeadSet on disk, so that retraining skips synthesis and embedding.
+// Format (little-endian): "MKWSFEAT", uint32 version 1, uint32 inputs per example (1536),
+// uint64 example count n, then n float labels, then n x 1536 float inputs.
+void save_head_set(const std::filesystem::path& path, const HeadSet& set);
+// Throws ModelFileError naming the file and what is wrong (magic, version, size, truncation).
+HeadSet load_head_set(const std::filesystem::path& path);
 
 EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options);
 

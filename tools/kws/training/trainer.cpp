@@ -1,4 +1,4 @@
-#include "perception/kws/trainer.h"
+#include "kws/training/trainer.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -23,7 +23,9 @@ constexpr int kP1 = kConv1OutTime * kConv1OutFreq;  // 429 conv1 positions
 constexpr int kA1 = kConv1OutTime * kPooledFreq;    // 143 pooled positions
 constexpr int kP2 = kConv2OutTime * kConv2OutFreq;  // 32 conv2 positions
 
-ConstMatrixMap weights(const FloatLayer& l) { return ConstMatrixMap(l.weights.data(), l.out, l.in); }
+ConstMatrixMap weights(const FloatLayer& l) {
+  return ConstMatrixMap(l.weights.data(), l.out, l.in);
+}
 MatrixMap weights(FloatLayer& l) { return MatrixMap(l.weights.data(), l.out, l.in); }
 
 void zero(FloatNetwork& n) {
@@ -40,7 +42,8 @@ FloatNetwork zeros_like(const FloatNetwork& net) {
 }
 
 void add_bias_rows(RowMatrix& m, const std::vector<float>& bias) {
-  m.rowwise() += Eigen::Map<const Eigen::RowVectorXf>(bias.data(), static_cast<Eigen::Index>(bias.size()));
+  m.rowwise() +=
+      Eigen::Map<const Eigen::RowVectorXf>(bias.data(), static_cast<Eigen::Index>(bias.size()));
 }
 
 void add_colsum(std::vector<float>& bias_grad, const RowMatrix& d) {
@@ -58,7 +61,8 @@ std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t index) {
 
 }  // namespace
 
-void spec_mask(std::span<float> input, int freq_mask_bins, int time_mask_frames, std::uint64_t seed) {
+void spec_mask(std::span<float> input, int freq_mask_bins, int time_mask_frames,
+               std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   auto draw = [&rng](int max_width, int extent, auto&& clear) {
     if (max_width <= 0) return;
@@ -69,9 +73,8 @@ void spec_mask(std::span<float> input, int freq_mask_bins, int time_mask_frames,
   draw(freq_mask_bins, kBins, [&](int bin) {
     for (int t = 0; t < kInputFrames; ++t) input[static_cast<std::size_t>(t * kBins + bin)] = 0.0f;
   });
-  draw(time_mask_frames, kInputFrames, [&](int t) {
-    std::fill_n(input.begin() + t * kBins, kBins, 0.0f);
-  });
+  draw(time_mask_frames, kInputFrames,
+       [&](int t) { std::fill_n(input.begin() + t * kBins, kBins, 0.0f); });
 }
 
 void warp_frequency(std::span<float> input, float factor) {
@@ -92,7 +95,8 @@ void warp_frequency(std::span<float> input, float factor) {
   std::array<float, n> frac{};
   for (std::size_t i = 0; i < n; ++i) {
     const float source_mel = hz_to_mel(mel_to_hz(centre_mel[i]) / factor);
-    const float pos = std::clamp((source_mel - centre_mel[0]) / step, 0.0f, static_cast<float>(n - 1));
+    const float pos =
+        std::clamp((source_mel - centre_mel[0]) / step, 0.0f, static_cast<float>(n - 1));
     lower[i] = std::min(static_cast<std::size_t>(pos), n - 2);
     frac[i] = pos - static_cast<float>(lower[i]);
   }
@@ -129,7 +133,7 @@ void augment_input(std::span<float> input, const TrainOptions& o, std::uint64_t 
 struct Trainer::Worker {
   RowMatrix x1, z1, a1, x2, z2, a2, l, h, o;
   std::vector<float> augmented;  // one example's input after augment_input()
-  std::vector<int> argmax;  // per a1 element: the z1 row the max came from
+  std::vector<int> argmax;       // per a1 element: the z1 row the max came from
   FloatNetwork grad;
   double loss = 0.0;
   std::size_t correct = 0;
@@ -137,7 +141,8 @@ struct Trainer::Worker {
   // `first` is the position of idx[0] in the batch: with augmentation on, example k of the batch
   // is augmented with mix_seed(augment_seed, k) however the batch is split between workers.
   void run(const FloatNetwork& net, const TrainingSet& data, std::span<const std::size_t> idx,
-           float inv_total, const TrainOptions& options, std::uint64_t augment_seed, std::size_t first) {
+           float inv_total, const TrainOptions& options, std::uint64_t augment_seed,
+           std::size_t first) {
     const int b = static_cast<int>(idx.size());
     loss = 0.0;
     correct = 0;
@@ -149,7 +154,8 @@ struct Trainer::Worker {
       const float* source = input.data();
       if (augmenting(options)) {
         augmented.assign(input.begin(), input.end());
-        augment_input(augmented, options, mix_seed(augment_seed, first + static_cast<std::size_t>(i)));
+        augment_input(augmented, options,
+                      mix_seed(augment_seed, first + static_cast<std::size_t>(i)));
         source = augmented.data();
       }
       detail::im2col_conv1(source, x1.data() + static_cast<std::ptrdiff_t>(i) * kP1 * kConv1In);
@@ -232,9 +238,12 @@ struct Trainer::Worker {
     for (int i = 0; i < b; ++i) {
       for (int t = 0; t < kConv2OutTime; ++t) {
         for (int f = 0; f < kConv2OutFreq; ++f) {
-          const float* src = d_x2.data() + static_cast<std::ptrdiff_t>(i * kP2 + t * kConv2OutFreq + f) * kConv2In;
+          const float* src =
+              d_x2.data() + static_cast<std::ptrdiff_t>(i * kP2 + t * kConv2OutFreq + f) * kConv2In;
           for (int dt = 0; dt < kConv2Time; ++dt) {
-            float* dst = d_a1.data() + static_cast<std::ptrdiff_t>(i * kA1 + (t + dt) * kPooledFreq + f) * kConv1Maps;
+            float* dst =
+                d_a1.data() +
+                static_cast<std::ptrdiff_t>(i * kA1 + (t + dt) * kPooledFreq + f) * kConv1Maps;
             const float* s = src + dt * span;
             for (int k = 0; k < span; ++k) dst[k] += s[k];
           }
@@ -276,10 +285,12 @@ double Trainer::loss_and_gradient(const TrainingSet& data, std::span<const std::
     const std::size_t begin = std::min(batch.size(), w * per);
     const std::size_t end = std::min(batch.size(), begin + per);
     threads.emplace_back([&, w, begin, end] {
-      workers_[w]->run(net_, data, batch.subspan(begin, end - begin), inv_total, options_, augment_seed_, begin);
+      workers_[w]->run(net_, data, batch.subspan(begin, end - begin), inv_total, options_,
+                       augment_seed_, begin);
     });
   }
-  workers_[0]->run(net_, data, batch.subspan(0, std::min(per, batch.size())), inv_total, options_, augment_seed_, 0);
+  workers_[0]->run(net_, data, batch.subspan(0, std::min(per, batch.size())), inv_total, options_,
+                   augment_seed_, 0);
   for (std::thread& t : threads) t.join();
   gradient = workers_[0]->grad;
   double loss = workers_[0]->loss;
@@ -288,7 +299,8 @@ double Trainer::loss_and_gradient(const TrainingSet& data, std::span<const std::
     auto dst = gradient.layers();
     auto src = workers_[w]->grad.layers();
     for (std::size_t k = 0; k < dst.size(); ++k) {
-      for (std::size_t j = 0; j < dst[k]->weights.size(); ++j) dst[k]->weights[j] += src[k]->weights[j];
+      for (std::size_t j = 0; j < dst[k]->weights.size(); ++j)
+        dst[k]->weights[j] += src[k]->weights[j];
       for (std::size_t j = 0; j < dst[k]->bias.size(); ++j) dst[k]->bias[j] += src[k]->bias[j];
     }
     loss += workers_[w]->loss;
@@ -336,9 +348,10 @@ EpochStats Trainer::train_epoch(
   for (std::size_t start = 0; start < order.size(); start += bs) {
     const std::size_t n = std::min(bs, order.size() - start);
     std::size_t correct = 0;
-    if (augmenting(options_)) augment_seed_ = rng();  // drawn only when on: runs without stay as before
-    const double loss = loss_and_gradient(data, std::span<const std::size_t>(order).subspan(start, n),
-                                          gradient, &correct);
+    if (augmenting(options_))
+      augment_seed_ = rng();  // drawn only when on: runs without stay as before
+    const double loss = loss_and_gradient(
+        data, std::span<const std::size_t>(order).subspan(start, n), gradient, &correct);
     adam_step(gradient);
     loss_sum += loss * static_cast<double>(n);
     right += correct;
@@ -413,7 +426,8 @@ ActivationScales calibrate(const FloatNetwork& net, const TrainingSet& data, dou
   for (int k = 0; k < 5; ++k) {
     auto& v = r[k];
     std::sort(v.begin(), v.end());
-    const std::size_t at = std::min(v.size() - 1, static_cast<std::size_t>(percentile * static_cast<double>(v.size())));
+    const std::size_t at = std::min(
+        v.size() - 1, static_cast<std::size_t>(percentile * static_cast<double>(v.size())));
     out[k] = std::max(v[at], 1e-6f) / 127.0f;
   }
   return ActivationScales{out[0], out[1], out[2], out[3], out[4]};

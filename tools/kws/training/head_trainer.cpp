@@ -1,11 +1,14 @@
-#include "perception/kws/head_trainer.h"
+#include "kws/training/head_trainer.h"
 
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <numeric>
 #include <random>
 #include <stdexcept>
+
+#include "perception/kws/model_file.h"
 
 namespace marvin::perception::kws {
 namespace {
@@ -52,7 +55,8 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
   head.resize(options.hidden);
   const int h = options.hidden;
   auto init = [&](std::vector<float>& w, int fan_in, float input_std) {
-    std::normal_distribution<float> d(0.0f, std::sqrt(2.0f / static_cast<float>(fan_in)) / input_std);
+    std::normal_distribution<float> d(0.0f,
+                                      std::sqrt(2.0f / static_cast<float>(fan_in)) / input_std);
     for (float& x : w) x = d(rng);
   };
   // He initialisation scaled by the inputs' spread (speech embeddings have a standard
@@ -69,8 +73,8 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
   init(head.w1, kHeadInputs, input_std);
   init(head.w2, h, 1.0f);
   init(head.w3, h, 1.0f);
-  AdamBlock a_w1(head.w1.size()), a_b1(head.b1.size()), a_w2(head.w2.size()),
-      a_b2(head.b2.size()), a_w3(head.w3.size());
+  AdamBlock a_w1(head.w1.size()), a_b1(head.b1.size()), a_w2(head.w2.size()), a_b2(head.b2.size()),
+      a_w3(head.w3.size());
   std::vector<float> b3v{0.0f};
   AdamBlock a_b3(1);
   std::vector<float> g_w1(head.w1.size()), g_b1(head.b1.size()), g_w2(head.w2.size()),
@@ -86,8 +90,14 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
     std::shuffle(order.begin(), order.end(), rng);
     // Cosine decay to 5 % of the rate, as the CNN trainer does.
     const float lr = options.learning_rate *
-                     (0.05f + 0.95f * 0.5f * (1.0f + std::cos(3.14159265f * static_cast<float>(epoch) /
-                                                              static_cast<float>(options.epochs))));
+                     (0.05f + 0.95f * 0.5f *
+                                  (1.0f + std::cos(3.14159265f * static_cast<float>(epoch) /
+                                                   static_cast<float>(options.epochs))));
+    const float negative_weight = options.epochs > 1
+                                      ? 1.0f + (options.final_negative_weight - 1.0f) *
+                                                   static_cast<float>(epoch) /
+                                                   static_cast<float>(options.epochs - 1)
+                                      : options.final_negative_weight;
     double loss_sum = 0.0;
     std::size_t seen = 0;
     for (std::size_t bi = 0; bi < batches; ++bi) {
@@ -95,7 +105,8 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
       const auto n = static_cast<Eigen::Index>(std::min(batch, order.size() - first));
       x.resize(kHeadInputs, n);
       for (Eigen::Index c = 0; c < n; ++c) {
-        const float* src = train.inputs.data() + order[first + static_cast<std::size_t>(c)] * kHeadInputs;
+        const float* src =
+            train.inputs.data() + order[first + static_cast<std::size_t>(c)] * kHeadInputs;
         for (int r = 0; r < kHeadInputs; ++r) x(r, c) = src[r];
       }
       const Eigen::Map<const HeadMatrix> w1(head.w1.data(), h, kHeadInputs);
@@ -114,7 +125,7 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
       float weight_sum = 0.0f;
       for (Eigen::Index c = 0; c < n; ++c) {
         const float y = train.labels[order[first + static_cast<std::size_t>(c)]];
-        const float w = y > 0.5f ? options.positive_weight : 1.0f;
+        const float w = y > 0.5f ? options.positive_weight : negative_weight;
         const float p = 1.0f / (1.0f + std::exp(-z3(c)));
         d3(c) = w * (p - y);
         weight_sum += w;
@@ -151,7 +162,8 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
 HeadAccuracy head_accuracy(const EmbeddingHead& head, const HeadSet& set, float threshold) {
   std::size_t pos = 0, pos_ok = 0, neg = 0, neg_ok = 0;
   for (std::size_t k = 0; k < set.size(); ++k) {
-    const float s = head.score(std::span<const float>(set.inputs).subspan(k * kHeadInputs, kHeadInputs));
+    const float s =
+        head.score(std::span<const float>(set.inputs).subspan(k * kHeadInputs, kHeadInputs));
     if (set.labels[k] > 0.5f) {
       ++pos;
       pos_ok += s >= threshold ? 1 : 0;
@@ -162,6 +174,71 @@ HeadAccuracy head_accuracy(const EmbeddingHead& head, const HeadSet& set, float 
   }
   return {pos ? static_cast<double>(pos_ok) / static_cast<double>(pos) : 0.0,
           neg ? static_cast<double>(neg_ok) / static_cast<double>(neg) : 0.0};
+}
+
+}  // namespace marvin::perception::kws
+
+namespace marvin::perception::kws {
+namespace {
+
+constexpr char kFeatureMagic[8] = {'M', 'K', 'W', 'S', 'F', 'E', 'A', 'T'};
+constexpr std::uint32_t kFeatureVersion = 1;
+
+}  // namespace
+
+void save_head_set(const std::filesystem::path& path, const HeadSet& set) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw ModelFileError(path.string() + ": cannot open for writing");
+  const std::uint32_t version = kFeatureVersion, inputs = kHeadInputs;
+  const std::uint64_t n = set.size();
+  out.write(kFeatureMagic, sizeof kFeatureMagic);
+  out.write(reinterpret_cast<const char*>(&version), sizeof version);
+  out.write(reinterpret_cast<const char*>(&inputs), sizeof inputs);
+  out.write(reinterpret_cast<const char*>(&n), sizeof n);
+  out.write(reinterpret_cast<const char*>(set.labels.data()),
+            static_cast<std::streamsize>(n * sizeof(float)));
+  out.write(reinterpret_cast<const char*>(set.inputs.data()),
+            static_cast<std::streamsize>(set.inputs.size() * sizeof(float)));
+  if (!out) throw ModelFileError(path.string() + ": write failed");
+}
+
+HeadSet load_head_set(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ModelFileError(path.string() + ": cannot open feature file");
+  char magic[8] = {};
+  std::uint32_t version = 0, inputs = 0;
+  std::uint64_t n = 0;
+  in.read(magic, sizeof magic);
+  if (!in || !std::equal(magic, magic + 8, kFeatureMagic)) {
+    throw ModelFileError(path.string() + ": bytes 0..7: expected \"MKWSFEAT\" (a feature file)");
+  }
+  in.read(reinterpret_cast<char*>(&version), sizeof version);
+  in.read(reinterpret_cast<char*>(&inputs), sizeof inputs);
+  in.read(reinterpret_cast<char*>(&n), sizeof n);
+  if (!in) throw ModelFileError(path.string() + ": truncated header (24 bytes expected)");
+  if (version != kFeatureVersion) {
+    throw ModelFileError(path.string() + ": byte 8: version " + std::to_string(version) +
+                         ", expected " + std::to_string(kFeatureVersion));
+  }
+  if (inputs != static_cast<std::uint32_t>(kHeadInputs)) {
+    throw ModelFileError(path.string() + ": byte 12: " + std::to_string(inputs) +
+                         " inputs per example, expected " + std::to_string(kHeadInputs));
+  }
+  const std::uint64_t expected = 24 + n * (1 + kHeadInputs) * sizeof(float);
+  const std::uint64_t size = std::filesystem::file_size(path);
+  if (size != expected) {
+    throw ModelFileError(path.string() + ": " + std::to_string(size) + " bytes, expected " +
+                         std::to_string(expected) + " for " + std::to_string(n) + " examples");
+  }
+  HeadSet set;
+  set.labels.resize(n);
+  set.inputs.resize(n * kHeadInputs);
+  in.read(reinterpret_cast<char*>(set.labels.data()),
+          static_cast<std::streamsize>(n * sizeof(float)));
+  in.read(reinterpret_cast<char*>(set.inputs.data()),
+          static_cast<std::streamsize>(set.inputs.size() * sizeof(float)));
+  if (!in) throw ModelFileError(path.string() + ": truncated");
+  return set;
 }
 
 }  // namespace marvin::perception::kws

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "perception/kws/trainer.h"
+#include "kws/training/trainer.h"
 
 namespace marvin::perception::kws {
 
@@ -31,9 +31,9 @@ struct DatasetOptions {
   int unknown_clips = 1500;  // half single words, half 1 s pieces of sentences
   int silence_clips = 300;
   int noise_clips = 500;
-  int augmented_copies = 2;  // training examples made from each training clip
-  std::vector<std::string> voices;       // espeak-ng voices; empty = training_voices()
-  std::filesystem::path noise_folder;    // WAVs used as background noise (else generated)
+  int augmented_copies = 2;                     // training examples made from each training clip
+  std::vector<std::string> voices;              // espeak-ng voices; empty = training_voices()
+  std::filesystem::path noise_folder;           // WAVs used as background noise (else generated)
   std::function<void(const std::string&)> log;  // progress lines (may be empty)
   // Probability that a word (keyword or other) gets speech right before and after it in its
   // window, as in "marvin, what time is it" (0: isolated words only).

@@ -1,4 +1,4 @@
-#include "perception/kws/generated_voices.h"
+#include "kws/training/generated_voices.h"
 
 #include <espeak-ng/espeak_ng.h>
 #include <espeak-ng/speak_lib.h>
@@ -58,7 +58,8 @@ std::string random_variant_text(const std::string& name, std::mt19937_64& rng) {
   return out.str();
 }
 
-std::vector<std::string> install_generated_variants(int count, std::uint64_t seed, const fs::path& dir) {
+std::vector<std::string> install_generated_variants(int count, std::uint64_t seed,
+                                                    const fs::path& dir) {
   const fs::path system = system_data_dir();
   const fs::path data = dir / "espeak-ng-data";
   std::vector<std::string> names;

@@ -12,7 +12,8 @@ namespace marvin::perception::kws {
 enum class NoiseColour { white, pink, brown };
 
 // `count` samples of coloured noise with RMS 1 before clipping-free scaling to `rms`.
-std::vector<float> make_noise(NoiseColour colour, std::size_t count, float rms, std::mt19937_64& rng);
+std::vector<float> make_noise(NoiseColour colour, std::size_t count, float rms,
+                              std::mt19937_64& rng);
 
 float rms(std::span<const float> x);
 

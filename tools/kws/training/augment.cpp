@@ -1,4 +1,4 @@
-#include "perception/kws/augment.h"
+#include "kws/training/augment.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,7 +26,9 @@ std::vector<float> make_noise(NoiseColour colour, std::size_t count, float level
   for (float& v : out) {
     const float w = gauss(rng);
     switch (colour) {
-      case NoiseColour::white: v = w; break;
+      case NoiseColour::white:
+        v = w;
+        break;
       case NoiseColour::pink:
         b0 = 0.99765f * b0 + w * 0.0990460f;
         b1 = 0.96300f * b1 + w * 0.2965164f;
@@ -59,7 +61,9 @@ std::vector<float> time_stretch(std::span<const float> x, double rate) {
   const std::size_t out_len = static_cast<std::size_t>(static_cast<double>(x.size()) / rate);
   std::vector<float> out(out_len + n, 0.0f), norm(out_len + n, 0.0f);
   const std::ptrdiff_t len = static_cast<std::ptrdiff_t>(x.size());
-  auto at = [&](std::ptrdiff_t i) { return i >= 0 && i < len ? x[static_cast<std::size_t>(i)] : 0.0f; };
+  auto at = [&](std::ptrdiff_t i) {
+    return i >= 0 && i < len ? x[static_cast<std::size_t>(i)] : 0.0f;
+  };
   std::ptrdiff_t prev = 0;  // where the previous frame was taken from
   for (std::size_t k = 0; k * hop < out_len; ++k) {
     const std::ptrdiff_t nominal = static_cast<std::ptrdiff_t>(static_cast<double>(k * hop) * rate);
@@ -71,7 +75,8 @@ std::vector<float> time_stretch(std::span<const float> x, double rate) {
       for (std::ptrdiff_t d = -tolerance; d <= tolerance; d += 4) {
         const std::ptrdiff_t cand = nominal + d;
         double score = 0.0;
-        for (int i = 0; i < hop; i += 2) score += static_cast<double>(at(cand + i)) * at(prev + hop + i);
+        for (int i = 0; i < hop; i += 2)
+          score += static_cast<double>(at(cand + i)) * at(prev + hop + i);
         if (score > best_score) {
           best_score = score;
           best = cand;
@@ -114,7 +119,8 @@ float median(std::vector<float>& v) {
 
 }  // namespace
 
-std::vector<float> hpss_remix(std::span<const float> x, float harmonic_gain, float percussive_gain) {
+std::vector<float> hpss_remix(std::span<const float> x, float harmonic_gain,
+                              float percussive_gain) {
   constexpr int n = 512, hop = 128, bins = n / 2 + 1, kernel = 17;
   if (x.size() < static_cast<std::size_t>(n)) return std::vector<float>(x.begin(), x.end());
   const Fft fft(n);
@@ -127,9 +133,12 @@ std::vector<float> hpss_remix(std::span<const float> x, float harmonic_gain, flo
   std::vector<std::vector<std::complex<float>>> spec(frames, std::vector<std::complex<float>>(n));
   std::vector<float> mag(frames * bins);
   for (std::size_t f = 0; f < frames; ++f) {
-    for (int i = 0; i < n; ++i) spec[f][static_cast<std::size_t>(i)] = x[f * hop + static_cast<std::size_t>(i)] * window[static_cast<std::size_t>(i)];
+    for (int i = 0; i < n; ++i)
+      spec[f][static_cast<std::size_t>(i)] =
+          x[f * hop + static_cast<std::size_t>(i)] * window[static_cast<std::size_t>(i)];
     fft.forward(spec[f]);
-    for (int b = 0; b < bins; ++b) mag[f * bins + static_cast<std::size_t>(b)] = std::abs(spec[f][static_cast<std::size_t>(b)]);
+    for (int b = 0; b < bins; ++b)
+      mag[f * bins + static_cast<std::size_t>(b)] = std::abs(spec[f][static_cast<std::size_t>(b)]);
   }
   std::vector<float> harm(frames * bins), perc(frames * bins), buf;
   for (std::size_t f = 0; f < frames; ++f) {
@@ -137,7 +146,8 @@ std::vector<float> hpss_remix(std::span<const float> x, float harmonic_gain, flo
       buf.clear();
       for (int d = -kernel / 2; d <= kernel / 2; ++d) {
         const std::ptrdiff_t ff = static_cast<std::ptrdiff_t>(f) + d;
-        if (ff >= 0 && ff < static_cast<std::ptrdiff_t>(frames)) buf.push_back(mag[static_cast<std::size_t>(ff) * bins + static_cast<std::size_t>(b)]);
+        if (ff >= 0 && ff < static_cast<std::ptrdiff_t>(frames))
+          buf.push_back(mag[static_cast<std::size_t>(ff) * bins + static_cast<std::size_t>(b)]);
       }
       harm[f * bins + static_cast<std::size_t>(b)] = median(buf);
       buf.clear();
@@ -157,7 +167,8 @@ std::vector<float> hpss_remix(std::span<const float> x, float harmonic_gain, flo
       const float mh = h2 + p2 > 0.0f ? h2 / (h2 + p2) : 0.5f;
       const float gain = harmonic_gain * mh + percussive_gain * (1.0f - mh);
       s[static_cast<std::size_t>(b)] *= gain;
-      if (b > 0 && b < n / 2) s[static_cast<std::size_t>(n - b)] = std::conj(s[static_cast<std::size_t>(b)]);
+      if (b > 0 && b < n / 2)
+        s[static_cast<std::size_t>(n - b)] = std::conj(s[static_cast<std::size_t>(b)]);
     }
     // Inverse through the forward transform: ifft(X) = conj(fft(conj(X))) / n.
     for (auto& v : s) v = std::conj(v);
@@ -185,7 +196,8 @@ void add_noise_at_snr(std::vector<float>& x, std::span<const float> noise, float
   std::sort(frame_rms.begin(), frame_rms.end(), std::greater<>());
   double sig = 0.0;
   const std::size_t half = std::max<std::size_t>(1, frame_rms.size() / 2);
-  for (std::size_t i = 0; i < half && i < frame_rms.size(); ++i) sig += static_cast<double>(frame_rms[i]) * frame_rms[i];
+  for (std::size_t i = 0; i < half && i < frame_rms.size(); ++i)
+    sig += static_cast<double>(frame_rms[i]) * frame_rms[i];
   sig = std::sqrt(sig / static_cast<double>(half));
   std::uniform_int_distribution<std::size_t> start(0, noise.size() - 1);
   std::size_t pos = start(rng);
@@ -215,7 +227,8 @@ std::vector<float> trim_silence(std::span<const float> x, float threshold_db) {
   while (first < levels.size() && levels[first] < floor) ++first;
   while (last > first && levels[last - 1] < floor) --last;
   const std::size_t b = first * frame, e = std::min(x.size(), last * frame);
-  return std::vector<float>(x.begin() + static_cast<std::ptrdiff_t>(b), x.begin() + static_cast<std::ptrdiff_t>(e));
+  return std::vector<float>(x.begin() + static_cast<std::ptrdiff_t>(b),
+                            x.begin() + static_cast<std::ptrdiff_t>(e));
 }
 
 }  // namespace marvin::perception::kws

@@ -50,7 +50,8 @@ struct TrainOptions {
 
 // The mask train_epoch() applies to one normalised input (kInputSize values, frame-major):
 // a band and a span as above, chosen by `seed` alone.
-void spec_mask(std::span<float> input, int freq_mask_bins, int time_mask_frames, std::uint64_t seed);
+void spec_mask(std::span<float> input, int freq_mask_bins, int time_mask_frames,
+               std::uint64_t seed);
 
 // Warps one input's frequency axis by `factor` (> 1 moves energy up, like a shorter vocal
 // tract): output bin i takes the value at frequency f_i / factor, where f_i is bin i's centre
@@ -72,9 +73,9 @@ class Trainer {
 
   // One pass over `data` in an order shuffled with `rng`. `progress(done, total, loss, acc)`
   // is called after every batch (may be empty).
-  EpochStats train_epoch(const TrainingSet& data, std::mt19937_64& rng,
-                         const std::function<void(std::size_t, std::size_t, double, double)>&
-                             progress);
+  EpochStats train_epoch(
+      const TrainingSet& data, std::mt19937_64& rng,
+      const std::function<void(std::size_t, std::size_t, double, double)>& progress);
 
   // Mean loss and the gradient of one batch (for tests against finite differences).
   double loss_and_gradient(const TrainingSet& data, std::span<const std::size_t> batch,

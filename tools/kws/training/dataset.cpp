@@ -1,4 +1,4 @@
-#include "perception/kws/dataset.h"
+#include "kws/training/dataset.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "devices/audio/sound_buffer.h"
 #include "devices/audio/sound_file.h"
-#include "perception/kws/augment.h"
+#include "kws/training/augment.h"
 #include "perception/kws/features.h"
 #include "perception/speech_synthesizer.h"
 
@@ -18,14 +18,14 @@ namespace {
 
 const char* const kTrainBases[] = {"en", "en-us", "en-gb-scotland", "en-gb-x-rp", "en-029"};
 const char* const kTrainVariants[] = {
-    "",      "m1",    "m2",   "m3",     "m4",       "m5",    "m6",       "f1",     "f2",
-    "f3",    "f4",    "klatt", "klatt2", "klatt3",  "Alex",  "Andy",     "Annie",  "Denis",
-    "Gene",  "Jacky", "Lee",  "Mario",  "Michael", "Storm", "adam",     "anika",  "belinda",
-    "benjamin", "caleb", "david", "edward", "grandma", "iven", "john", "linda", "norbert",
-    "paul", "quincy", "rob", "robert", "steph", "travis", "victor", "zac"};
+    "",         "m1",     "m2",    "m3",     "m4",      "m5",     "m6",     "f1",    "f2",
+    "f3",       "f4",     "klatt", "klatt2", "klatt3",  "Alex",   "Andy",   "Annie", "Denis",
+    "Gene",     "Jacky",  "Lee",   "Mario",  "Michael", "Storm",  "adam",   "anika", "belinda",
+    "benjamin", "caleb",  "david", "edward", "grandma", "iven",   "john",   "linda", "norbert",
+    "paul",     "quincy", "rob",   "robert", "steph",   "travis", "victor", "zac"};
 const char* const kHeldoutBases[] = {"en-gb-x-gbclan", "en-gb-x-gbcwmd", "en-us"};
-const char* const kHeldoutVariants[] = {"m7",  "f5",   "klatt4", "Alicia", "Andrea", "Hugo",
-                                        "Mike", "aunty", "boris", "ed",    "gustave", "max",
+const char* const kHeldoutVariants[] = {"m7",     "f5",    "klatt4", "Alicia", "Andrea",  "Hugo",
+                                        "Mike",   "aunty", "boris",  "ed",     "gustave", "max",
                                         "michel", "pablo", "shelby", "steph2", "iven2"};
 
 std::uint64_t mix(std::uint64_t a, std::uint64_t b) {
@@ -100,7 +100,9 @@ std::vector<std::string> training_voices() {
   return v;
 }
 
-std::vector<std::string> training_accents() { return {std::begin(kTrainBases), std::end(kTrainBases)}; }
+std::vector<std::string> training_accents() {
+  return {std::begin(kTrainBases), std::end(kTrainBases)};
+}
 
 std::vector<std::string> heldout_voices() {
   std::vector<std::string> v;
@@ -112,14 +114,17 @@ std::vector<std::string> heldout_voices() {
 
 const std::vector<std::string>& unknown_words() {
   static const std::vector<std::string> words = {
-      "yes", "no", "up", "down", "left", "right", "on", "off", "stop", "go", "zero", "one",
-      "two", "three", "four", "five", "six", "seven", "eight", "nine", "bed", "bird", "cat",
-      "dog", "happy", "house", "sheila", "tree", "wow", "visual", "forward", "backward",
-      "follow", "learn", "martin", "marvel", "marble", "margin", "garden", "carving",
-      "morning", "movie", "market", "mountain", "raven", "heaven", "vitamin", "seven",
-      "marathon", "kevin", "mervyn", "darwin", "melvin", "calvin", "robot", "hello",
-      "okay", "please", "thank you", "water", "medicine", "kitchen", "remind me", "what time",
-      "turn on", "call", "help", "lights", "music", "weather", "tomorrow", "evening"};
+      "yes",       "no",       "up",        "down",     "left",     "right",   "on",
+      "off",       "stop",     "go",        "zero",     "one",      "two",     "three",
+      "four",      "five",     "six",       "seven",    "eight",    "nine",    "bed",
+      "bird",      "cat",      "dog",       "happy",    "house",    "sheila",  "tree",
+      "wow",       "visual",   "forward",   "backward", "follow",   "learn",   "martin",
+      "marvel",    "marble",   "margin",    "garden",   "carving",  "morning", "movie",
+      "market",    "mountain", "raven",     "heaven",   "vitamin",  "seven",   "marathon",
+      "kevin",     "mervyn",   "darwin",    "melvin",   "calvin",   "robot",   "hello",
+      "okay",      "please",   "thank you", "water",    "medicine", "kitchen", "remind me",
+      "what time", "turn on",  "call",      "help",     "lights",   "music",   "weather",
+      "tomorrow",  "evening"};
   return words;
 }
 
@@ -214,26 +219,31 @@ std::vector<std::vector<float>> make_noise_pool(const std::filesystem::path& noi
 
 const std::vector<std::string>& vocabulary() {
   static const std::vector<std::string> v = {
-      "the", "a", "my", "your", "this", "that", "some", "every", "please", "now", "today",
-      "tomorrow", "tonight", "morning", "evening", "later", "again", "never", "always", "very",
-      "little", "big", "old", "new", "warm", "cold", "quiet", "loud", "green", "blue", "red",
-      "kitchen", "garden", "bedroom", "window", "door", "table", "chair", "sofa", "lamp",
-      "radio", "phone", "letter", "doctor", "nurse", "daughter", "son", "friend", "neighbour",
-      "husband", "wife", "cat", "dog", "bird", "tea", "coffee", "water", "soup", "bread",
-      "apple", "pills", "glasses", "keys", "book", "newspaper", "music", "news", "weather",
-      "rain", "snow", "sun", "wind", "bus", "car", "train", "shop", "market", "church",
-      "park", "river", "mountain", "is", "are", "was", "will", "can", "could", "would",
-      "should", "open", "close", "bring", "take", "call", "turn", "switch", "play", "read",
-      "write", "find", "put", "make", "cook", "walk", "sit", "stand", "sleep", "wake",
-      "remember", "forget", "remind", "help", "tell", "ask", "look", "listen", "wait", "stop",
-      "start", "go", "come", "leave", "visit", "and", "or", "but", "with", "without", "for",
-      "from", "to", "in", "on", "at", "under", "near", "after", "before", "because", "where",
-      "when", "what", "who", "how", "why", "one", "two", "three", "four", "five", "six",
-      "seven", "eight", "nine", "ten", "twenty", "half", "quarter", "past", "o'clock",
-      "Monday", "Tuesday", "Friday", "Sunday", "January", "March", "May", "August",
-      "marble", "margin", "market", "martian", "marvel", "harvest", "carving", "marching",
-      "movie", "arvo", "vintage", "heaven", "raven", "seven", "oven", "muffin", "martin",
-      "melvin", "kevin", "gavin", "darwin", "garden", "pardon", "barton", "carbon", "mountain"};
+      "the",       "a",       "my",      "your",     "this",     "that",     "some",    "every",
+      "please",    "now",     "today",   "tomorrow", "tonight",  "morning",  "evening", "later",
+      "again",     "never",   "always",  "very",     "little",   "big",      "old",     "new",
+      "warm",      "cold",    "quiet",   "loud",     "green",    "blue",     "red",     "kitchen",
+      "garden",    "bedroom", "window",  "door",     "table",    "chair",    "sofa",    "lamp",
+      "radio",     "phone",   "letter",  "doctor",   "nurse",    "daughter", "son",     "friend",
+      "neighbour", "husband", "wife",    "cat",      "dog",      "bird",     "tea",     "coffee",
+      "water",     "soup",    "bread",   "apple",    "pills",    "glasses",  "keys",    "book",
+      "newspaper", "music",   "news",    "weather",  "rain",     "snow",     "sun",     "wind",
+      "bus",       "car",     "train",   "shop",     "market",   "church",   "park",    "river",
+      "mountain",  "is",      "are",     "was",      "will",     "can",      "could",   "would",
+      "should",    "open",    "close",   "bring",    "take",     "call",     "turn",    "switch",
+      "play",      "read",    "write",   "find",     "put",      "make",     "cook",    "walk",
+      "sit",       "stand",   "sleep",   "wake",     "remember", "forget",   "remind",  "help",
+      "tell",      "ask",     "look",    "listen",   "wait",     "stop",     "start",   "go",
+      "come",      "leave",   "visit",   "and",      "or",       "but",      "with",    "without",
+      "for",       "from",    "to",      "in",       "on",       "at",       "under",   "near",
+      "after",     "before",  "because", "where",    "when",     "what",     "who",     "how",
+      "why",       "one",     "two",     "three",    "four",     "five",     "six",     "seven",
+      "eight",     "nine",    "ten",     "twenty",   "half",     "quarter",  "past",    "o'clock",
+      "Monday",    "Tuesday", "Friday",  "Sunday",   "January",  "March",    "May",     "August",
+      "marble",    "margin",  "market",  "martian",  "marvel",   "harvest",  "carving", "marching",
+      "movie",     "arvo",    "vintage", "heaven",   "raven",    "seven",    "oven",    "muffin",
+      "martin",    "melvin",  "kevin",   "gavin",    "darwin",   "garden",   "pardon",  "barton",
+      "carbon",    "mountain"};
   return v;
 }
 
@@ -250,14 +260,16 @@ const std::vector<std::string>& confusable_words() {
   // No pair of entries may join into the keyword ("mar" + "vin" would), since varied
   // sentences put them next to each other.
   static const std::vector<std::string> w = {
-      "marvel", "marvellous", "marble", "marbles", "martin", "margin", "margarine", "martian",
-      "marching", "market", "marking", "mark in", "mark it", "parking", "carving", "carve in",
-      "starving", "starve in", "harvest", "harvey", "garden", "pardon", "barton", "carbon",
-      "moving", "move in", "far in", "are in", "car in", "bar in", "jar in", "star in",
-      "marvis", "mervyn", "melvin", "calvin", "kevin", "gavin", "darwin", "marlin", "marvel in",
-      "arming", "farming", "warming", "harming", "morning", "mourning", "marin", "martini",
-      "marmalade", "margaret", "heaven", "raven", "seven", "oven", "vitamin",
-      "win", "been", "bin", "fin", "in", "far", "car", "are"};
+      "marvel",    "marvellous", "marble",   "marbles",   "martin",   "margin",    "margarine",
+      "martian",   "marching",   "market",   "marking",   "mark in",  "mark it",   "parking",
+      "carving",   "carve in",   "starving", "starve in", "harvest",  "harvey",    "garden",
+      "pardon",    "barton",     "carbon",   "moving",    "move in",  "far in",    "are in",
+      "car in",    "bar in",     "jar in",   "star in",   "marvis",   "mervyn",    "melvin",
+      "calvin",    "kevin",      "gavin",    "darwin",    "marlin",   "marvel in", "arming",
+      "farming",   "warming",    "harming",  "morning",   "mourning", "marin",     "martini",
+      "marmalade", "margaret",   "heaven",   "raven",     "seven",    "oven",      "vitamin",
+      "win",       "been",       "bin",      "fin",       "in",       "far",       "car",
+      "are"};
   return w;
 }
 
@@ -268,7 +280,8 @@ std::string varied_sentence(std::mt19937_64& rng) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   const int n = std::uniform_int_distribution<int>(3, 14)(rng);
   std::string s;
-  for (int i = 0; i < n; ++i) s += (i ? " " : "") + (u(rng) < 0.2f ? c[pick_c(rng)] : v[pick_v(rng)]);
+  for (int i = 0; i < n; ++i)
+    s += (i ? " " : "") + (u(rng) < 0.2f ? c[pick_c(rng)] : v[pick_v(rng)]);
   return s;
 }
 
@@ -282,7 +295,8 @@ std::vector<float> negative_speech(double seconds, const std::vector<std::string
   std::uniform_int_distribution<std::size_t> pick_voice(0, voices.size() - 1);
   if (!noise_pool.empty()) {
     for (std::size_t pos = 0; pos < total;) {
-      const auto& n = noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+      const auto& n =
+          noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
       const float level = db(-50.0f + 15.0f * u(rng)) / std::max(rms(n), 1e-6f);
       for (std::size_t i = 0; i < n.size() && pos < total; ++i) out[pos++] += level * n[i];
     }
@@ -299,7 +313,8 @@ std::vector<float> negative_speech(double seconds, const std::vector<std::string
     } else {
       const int n = std::uniform_int_distribution<int>(1, 4)(rng);
       for (int i = 0; i < n; ++i) {
-        text += (i ? ", " : "") + conf[std::uniform_int_distribution<std::size_t>(0, conf.size() - 1)(rng)];
+        text += (i ? ", " : "") +
+                conf[std::uniform_int_distribution<std::size_t>(0, conf.size() - 1)(rng)];
       }
     }
     const int rate = 110 + static_cast<int>(120 * u(rng));
@@ -330,9 +345,10 @@ TrainingSet stream_windows(const std::vector<float>& audio, int hop_frames, int 
   for (std::size_t end = kWindowFrames; end <= n_frames; end += hop) {
     const std::size_t at = set.inputs.size();
     set.inputs.resize(at + kInputSize);
-    window_to_input(std::span<const float>(frames).subspan((end - kWindowFrames) * kBins,
-                                                           static_cast<std::size_t>(kWindowFrames) * kBins),
-                    identity, std::span<float>(set.inputs).subspan(at, kInputSize));
+    window_to_input(
+        std::span<const float>(frames).subspan((end - kWindowFrames) * kBins,
+                                               static_cast<std::size_t>(kWindowFrames) * kBins),
+        identity, std::span<float>(set.inputs).subspan(at, kInputSize));
     set.labels.push_back(label);
   }
   return set;
@@ -386,7 +402,8 @@ AudioClip place_and_augment(const std::vector<float>& word, int label,
     const float rel = db(-6.0f + 9.0f * u(rng));
     float wpeak = 0.0f;
     for (float v : w) wpeak = std::max(wpeak, std::fabs(v));
-    auto put = [&](const std::vector<float>& src, std::size_t dst_begin, std::size_t dst_end, bool tail) {
+    auto put = [&](const std::vector<float>& src, std::size_t dst_begin, std::size_t dst_end,
+                   bool tail) {
       if (dst_end <= dst_begin + 1600 || src.empty()) return;
       float sp = 0.0f;
       for (float v : src) sp = std::max(sp, std::fabs(v));
@@ -402,7 +419,8 @@ AudioClip place_and_augment(const std::vector<float>& word, int label,
   if (augment) {
     const float pick = u(rng);
     if (pick < 0.6f && !noise_pool.empty()) {
-      const auto& n = noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+      const auto& n =
+          noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
       add_noise_at_snr(c.audio, n, -5.0f + 15.0f * u(rng), rng);
     } else if (pick < 0.8f) {
       const std::vector<float> white = make_noise(NoiseColour::white, len, 0.1f, rng);
@@ -414,7 +432,8 @@ AudioClip place_and_augment(const std::vector<float>& word, int label,
 }
 
 SplitClips synthesize_dataset(const DatasetOptions& options) {
-  const std::vector<std::string> voices = options.voices.empty() ? training_voices() : options.voices;
+  const std::vector<std::string> voices =
+      options.voices.empty() ? training_voices() : options.voices;
   auto log = [&](const std::string& s) {
     if (options.log) options.log(s);
   };
@@ -439,16 +458,19 @@ SplitClips synthesize_dataset(const DatasetOptions& options) {
     std::vector<AudioClip>& dst = split == 0 ? out.train : (split == 1 ? out.test : out.eval);
     const int copies = split == 0 ? std::max(1, options.augmented_copies) : 1;
     for (int k = 0; k < copies; ++k) {
-      dst.push_back(place_and_augment(word, label, out.noise_pool, true, rng, with_context ? &context : nullptr,
+      dst.push_back(place_and_augment(word, label, out.noise_pool, true, rng,
+                                      with_context ? &context : nullptr,
                                       options.context_probability));
     }
   };
-  const std::string cap = options.keyword.empty()
-                              ? options.keyword
-                              : static_cast<char>(std::toupper(static_cast<unsigned char>(options.keyword[0]))) +
-                                    options.keyword.substr(1);
+  const std::string cap =
+      options.keyword.empty()
+          ? options.keyword
+          : static_cast<char>(std::toupper(static_cast<unsigned char>(options.keyword[0]))) +
+                options.keyword.substr(1);
   for (int i = 0; i < options.keyword_clips; ++i) {
-    if (i % 100 == 0) log("keyword " + std::to_string(i) + "/" + std::to_string(options.keyword_clips));
+    if (i % 100 == 0)
+      log("keyword " + std::to_string(i) + "/" + std::to_string(options.keyword_clips));
     const std::string& text = (i % 3 == 0) ? cap + "!" : (i % 3 == 1 ? options.keyword : cap + ".");
     std::vector<float> w = synthesize(text, voices[pick_voice(rng)], rate(rng), pitch(rng));
     if (w.empty()) continue;
@@ -456,9 +478,11 @@ SplitClips synthesize_dataset(const DatasetOptions& options) {
   }
   const auto& words = unknown_words();
   const auto& sents = sentences();
-  std::uniform_int_distribution<std::size_t> pick_word(0, words.size() - 1), pick_sent(0, sents.size() - 1);
+  std::uniform_int_distribution<std::size_t> pick_word(0, words.size() - 1),
+      pick_sent(0, sents.size() - 1);
   for (int i = 0; i < options.unknown_clips; ++i) {
-    if (i % 100 == 0) log("unknown " + std::to_string(i) + "/" + std::to_string(options.unknown_clips));
+    if (i % 100 == 0)
+      log("unknown " + std::to_string(i) + "/" + std::to_string(options.unknown_clips));
     std::vector<float> w;
     const bool single_word = i % 2 == 0;
     if (single_word) {
@@ -467,15 +491,18 @@ SplitClips synthesize_dataset(const DatasetOptions& options) {
       if (options.random_sentences && i % 4 == 3) {
         const std::string text = random_sentence(rng);
         w = crop_random(synthesize(text, voices[pick_voice(rng)], rate(rng), pitch(rng)),
-                        kWindowSamples - std::uniform_int_distribution<std::size_t>(0, 4000)(rng), rng);
+                        kWindowSamples - std::uniform_int_distribution<std::size_t>(0, 4000)(rng),
+                        rng);
       } else {
-        w = crop_random(synthesize(sents[pick_sent(rng)], voices[pick_voice(rng)], rate(rng), pitch(rng)),
-                        kWindowSamples - std::uniform_int_distribution<std::size_t>(0, 4000)(rng), rng);
+        w = crop_random(
+            synthesize(sents[pick_sent(rng)], voices[pick_voice(rng)], rate(rng), pitch(rng)),
+            kWindowSamples - std::uniform_int_distribution<std::size_t>(0, 4000)(rng), rng);
       }
       w = trim_silence(w, 50.0f);
     }
     if (w.empty()) continue;
-    add(w, static_cast<int>(KwsClass::unknown), 1'000'000u + static_cast<std::uint64_t>(i), single_word);
+    add(w, static_cast<int>(KwsClass::unknown), 1'000'000u + static_cast<std::uint64_t>(i),
+        single_word);
   }
   log("silence and noise");
   for (int i = 0; i < options.silence_clips + options.noise_clips; ++i) {
@@ -498,13 +525,15 @@ SplitClips read_speech_commands(const std::filesystem::path& folder, const Datas
   std::mt19937_64 rng(options.seed);
   const auto noise_dir = folder / "_background_noise_";
   out.noise_pool = make_noise_pool(
-      !options.noise_folder.empty() ? options.noise_folder
-                                    : (std::filesystem::is_directory(noise_dir) ? noise_dir : std::filesystem::path()),
+      !options.noise_folder.empty()
+          ? options.noise_folder
+          : (std::filesystem::is_directory(noise_dir) ? noise_dir : std::filesystem::path()),
       training_voices(), rng);
   std::vector<std::filesystem::path> words;
   for (const auto& e : std::filesystem::directory_iterator(folder)) {
     const std::string name = e.path().filename().string();
-    if (e.is_directory() && !name.empty() && name[0] != '_' && name[0] != '.') words.push_back(e.path());
+    if (e.is_directory() && !name.empty() && name[0] != '_' && name[0] != '.')
+      words.push_back(e.path());
   }
   std::sort(words.begin(), words.end());
   bool have_keyword = false;
@@ -529,7 +558,8 @@ SplitClips read_speech_commands(const std::filesystem::path& folder, const Datas
       const int split = split_of(mix(options.seed, hash_string(key)));
       std::vector<AudioClip>& dst = split == 0 ? out.train : (split == 1 ? out.test : out.eval);
       const int copies = split == 0 ? std::max(1, options.augmented_copies) : 1;
-      for (int k = 0; k < copies; ++k) dst.push_back(place_and_augment(w, label, out.noise_pool, true, rng));
+      for (int k = 0; k < copies; ++k)
+        dst.push_back(place_and_augment(w, label, out.noise_pool, true, rng));
     }
   }
   if (!have_keyword) {
@@ -540,9 +570,11 @@ SplitClips read_speech_commands(const std::filesystem::path& folder, const Datas
   const std::size_t words_total = out.train.size() + out.test.size() + out.eval.size();
   const int extra = static_cast<int>(words_total / 6);
   for (int i = 0; i < 2 * extra; ++i) {
-    const int label = i < extra ? static_cast<int>(KwsClass::silence) : static_cast<int>(KwsClass::noise);
+    const int label =
+        i < extra ? static_cast<int>(KwsClass::silence) : static_cast<int>(KwsClass::noise);
     const int split = split_of(mix(options.seed, 2'000'000u + static_cast<std::uint64_t>(i)));
-    (split == 0 ? out.train : (split == 1 ? out.test : out.eval)).push_back(quiet_clip(label, out.noise_pool, rng));
+    (split == 0 ? out.train : (split == 1 ? out.test : out.eval))
+        .push_back(quiet_clip(label, out.noise_pool, rng));
   }
   return out;
 }
@@ -557,7 +589,8 @@ TrainingSet clips_to_inputs(const std::vector<AudioClip>& clips, int threads) {
     std::vector<float> frames;
     const Normalisation identity{};
     std::vector<std::int16_t> pcm(static_cast<std::size_t>(kWindowSamples));
-    for (std::size_t i = static_cast<std::size_t>(t); i < clips.size(); i += static_cast<std::size_t>(n)) {
+    for (std::size_t i = static_cast<std::size_t>(t); i < clips.size();
+         i += static_cast<std::size_t>(n)) {
       const auto& a = clips[i].audio;
       pcm.assign(a.size(), 0);
       audio::float_to_pcm16(a, pcm);
@@ -583,15 +616,19 @@ Normalisation compute_normalisation(const TrainingSet& set) {
   for (std::size_t i = 0; i < set.size(); ++i) {
     auto x = set.input(i);
     for (int t = 0; t < kInputFrames; ++t) {
-      for (int b = 0; b < kBins; ++b) sum[static_cast<std::size_t>(b)] += x[static_cast<std::size_t>(t * kBins + b)];
+      for (int b = 0; b < kBins; ++b)
+        sum[static_cast<std::size_t>(b)] += x[static_cast<std::size_t>(t * kBins + b)];
     }
   }
-  for (int b = 0; b < kBins; ++b) norm.mean[static_cast<std::size_t>(b)] = static_cast<float>(sum[static_cast<std::size_t>(b)] / count);
+  for (int b = 0; b < kBins; ++b)
+    norm.mean[static_cast<std::size_t>(b)] =
+        static_cast<float>(sum[static_cast<std::size_t>(b)] / count);
   for (std::size_t i = 0; i < set.size(); ++i) {
     auto x = set.input(i);
     for (int t = 0; t < kInputFrames; ++t) {
       for (int b = 0; b < kBins; ++b) {
-        const double d = x[static_cast<std::size_t>(t * kBins + b)] - norm.mean[static_cast<std::size_t>(b)];
+        const double d =
+            x[static_cast<std::size_t>(t * kBins + b)] - norm.mean[static_cast<std::size_t>(b)];
         sq += d * d;
       }
     }
