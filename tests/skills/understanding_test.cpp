@@ -122,6 +122,15 @@ TEST_CASE("a Lua skill with only templates gains from tolerant matching") {
 
 namespace {
 
+// Every built-in skill, as `marvin run` loads them.
+Interpreter builtin_interpreter() {
+  Interpreter in;
+  for (const auto& entry : fs::directory_iterator(fs::path(MARVIN_REPO_DIR) / "skills-builtin")) {
+    if (fs::exists(entry.path() / "skill.json")) add_skill(in, entry.path());
+  }
+  return in;
+}
+
 // The eval tool's labels (core/app/cli_nlu.cpp kDefaultLabels) for the built-in skills.
 std::string label_of(const std::string& skill, const std::string& intent) {
   static const std::map<std::string, std::string> kLabels{
@@ -168,11 +177,8 @@ const char* dialogue_label(Builtin b) {
 // built-in skill loaded, as `marvin run` loads them. A question naming the right intent counts
 // as right; for an out-of-scope request, acting on anything is wrong.
 TEST_CASE("held-out requests: the right intent and out of scope declined at the goals' rates") {
-  Interpreter in;
+  const Interpreter in = builtin_interpreter();
   const fs::path repo = MARVIN_REPO_DIR;
-  for (const auto& entry : fs::directory_iterator(repo / "skills-builtin")) {
-    if (fs::exists(entry.path() / "skill.json")) add_skill(in, entry.path());
-  }
   std::ifstream file(repo / "tests" / "interpret" / "heldout_requests.tsv");
   REQUIRE(file);
   int in_scope = 0, right = 0, out_of_scope = 0, acted = 0;
@@ -210,4 +216,27 @@ TEST_CASE("held-out requests: the right intent and out of scope declined at the 
   REQUIRE(out_of_scope >= 30);
   CHECK(right * 100 >= in_scope * 85);     // >= 85 % to the right intent (or asked about it)
   CHECK(acted * 100 <= out_of_scope * 3);  // <= 3 % of out-of-scope requests acted on
+}
+
+TEST_CASE("asking how a device is set, and asking not to forget something") {
+  const Interpreter in = builtin_interpreter();
+  for (const char* text :
+       {"could you tell me the temperature of the fridge", "check whether i left the heater on",
+        "how warm is the thermostat set", "is the garage door locked"}) {
+    CAPTURE(std::string(text));
+    CHECK(reading(in, text) == "home/query");
+  }
+  // A thing in the world is no device, though the template fits word for word.
+  CHECK(reading(in, "what's the temperature of the sun").rfind("home/", 0) != 0);
+
+  auto bins = in.match("don't let me forget to put the bins out on friday", context());
+  REQUIRE(bins);
+  CHECK(bins->intent == "remind");
+  CHECK(bins->slots.at("task").text == "put the bins out");
+  CHECK(bins->slots.at("when").value.at("at") == "2026-11-27T09:00");
+  auto mum = in.match("make sure i remember to call mum at 6pm", context());
+  REQUIRE(mum);
+  CHECK(mum->intent == "remind");
+  CHECK(mum->slots.at("task").text == "call mum");
+  CHECK(mum->slots.at("when").value.at("at") == "2026-11-25T18:00");
 }
