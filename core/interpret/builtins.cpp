@@ -261,6 +261,19 @@ Builtin by_head_word_after_lead_in(const std::vector<std::string>& w) {
                    "ai", "assistant", "robot", "computer", "bot"})) {
     ++k;
   }
+  // "no, just cancel it", "no no stop": a no that leads into stopping is a stop (and only a
+  // stop: "no yes" stays neither).
+  std::size_t noes = k;
+  while (noes < w.size() && noes < k + 2 && in(w[noes], {"no", "nope", "nah"})) ++noes;
+  if (noes > k && noes < w.size()) {
+    std::size_t after = noes;
+    while (after < w.size() && in(w[after], {"just", "please", "actually", "oh", "um"})) ++after;
+    if (after < w.size() &&
+        by_head_word(std::vector<std::string>(w.begin() + static_cast<std::ptrdiff_t>(after),
+                                              w.end())) == Builtin::kStop) {
+      return Builtin::kStop;
+    }
+  }
   if (k == 0 || k == w.size()) return Builtin::kNone;
   return by_head_word(
       std::vector<std::string>(w.begin() + static_cast<std::ptrdiff_t>(k), w.end()));

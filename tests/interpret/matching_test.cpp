@@ -311,6 +311,9 @@ TEST_CASE("builtins: stop, yes, no, repeat") {
       {"I said no!", Builtin::kNo},
       {"i repeat, stop", Builtin::kStop},
       {"i told you to cancel it", Builtin::kStop},
+      {"No, just cancel it", Builtin::kStop},
+      {"no no stop", Builtin::kStop},
+      {"no just cancel my dentist reminder", Builtin::kNone},
       {"pass the salt", Builtin::kNone},
       {"i told you to cancel my reminder", Builtin::kNone},
   };
