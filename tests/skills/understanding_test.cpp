@@ -240,3 +240,16 @@ TEST_CASE("asking how a device is set, and asking not to forget something") {
   CHECK(mum->slots.at("task").text == "call mum");
   CHECK(mum->slots.at("when").value.at("at") == "2026-11-25T18:00");
 }
+
+TEST_CASE("the time somewhere else: the time intent with the place as a slot") {
+  const Interpreter in = builtin_interpreter();
+  auto london = in.match("Hey, what is the time in London?", context());
+  REQUIRE(london);
+  CHECK(london->skill_id == "time");
+  CHECK(london->intent == "time");
+  CHECK(london->slots.at("place").text == "london");
+  auto here = in.match("what time is it", context());
+  REQUIRE(here);
+  CHECK(here->intent == "time");
+  CHECK(here->slots.count("place") == 0);
+}
