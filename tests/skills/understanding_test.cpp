@@ -252,4 +252,6 @@ TEST_CASE("the time somewhere else: the time intent with the place as a slot") {
   REQUIRE(here);
   CHECK(here->intent == "time");
   CHECK(here->slots.count("place") == 0);
+  // The time skill's declared synonym: people read the time off "the clock".
+  CHECK(reading(in, "what does the clock say") == "time/time");
 }
