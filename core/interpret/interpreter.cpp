@@ -39,8 +39,8 @@ constexpr float kDialogueProbability = 0.5F;
 constexpr std::size_t kMaxExactWords = 64;
 
 // Words a dialogue answer may start with before the value: "it's eight", "to Anna".
-constexpr std::array<std::string_view, 9> kAnswerFillers{
-    "it's", "it", "is", "its", "to", "for", "the", "about", "call"};
+constexpr std::array<std::string_view, 9> kAnswerFillers{"it's", "it",  "is",    "its", "to",
+                                                         "for",  "the", "about", "call"};
 
 // A dialogue answer may say more than an utterance's text slot.
 constexpr std::size_t kAnswerTextMaxWords = 24;
@@ -68,8 +68,8 @@ class IntentSlotReader final : public SlotReader {
   const ContactBook& contacts_;
 };
 
-std::string template_error(const IntentSpec& spec, std::string_view text,
-                           std::size_t column, const std::string& message) {
+std::string template_error(const IntentSpec& spec, std::string_view text, std::size_t column,
+                           const std::string& message) {
   return "skill \"" + spec.skill_id + "\", intent \"" + spec.intent + "\", template \"" +
          std::string(text) + "\": column " + std::to_string(column) + ": " + message;
 }
@@ -97,17 +97,16 @@ std::optional<SlotType> slot_type_from_string(std::string_view name) {
 // The model and the tables tolerant matching needs, built from the registered intents.
 struct ModelState {
   IntentModel model;
-  std::vector<std::string> word_stems;    // vocabulary id -> stem
-  std::vector<SynonymTable> synonyms;     // per intent (same order as Impl::intents)
+  std::vector<std::string> word_stems;  // vocabulary id -> stem
+  std::vector<SynonymTable> synonyms;   // per intent (same order as Impl::intents)
   // Example sentences of intents without slots, as the model sees them (politeness
   // stripped, words joined by spaces) -> intent index, or kSharedExample when two intents
   // give the same sentence.
   std::unordered_map<std::string, std::size_t> slotless_examples;
   static constexpr std::size_t kSharedExample = static_cast<std::size_t>(-1);
-  int none_class = 0;                     // the out-of-scope class (= number of intents)
+  int none_class = 0;  // the out-of-scope class (= number of intents)
   // Then the dialogue answers: none_class + 1, + 2, + 3.
-  static constexpr std::array<Builtin, 3> kDialogue{Builtin::kYes, Builtin::kNo,
-                                                    Builtin::kRepeat};
+  static constexpr std::array<Builtin, 3> kDialogue{Builtin::kYes, Builtin::kNo, Builtin::kRepeat};
 };
 
 struct Interpreter::Impl {
@@ -139,21 +138,19 @@ struct Interpreter::Impl {
   // True when every template of intent `k` has a slot naming a person or thing.
   bool needs_entity(std::size_t k) const {
     const CompiledIntent& intent = intents[k];
-    return std::all_of(intent.templates.begin(), intent.templates.end(),
-                       [&](const CompiledTemplate& t) {
-                         return std::any_of(t.program.begin(), t.program.end(),
-                                            [&](const Instruction& in) {
-                                              return in.op == Instruction::Op::kSlot &&
-                                                     intent.slots[static_cast<std::size_t>(in.a)]
-                                                         .entity;
-                                            });
-                       });
+    return std::all_of(
+        intent.templates.begin(), intent.templates.end(), [&](const CompiledTemplate& t) {
+          return std::any_of(t.program.begin(), t.program.end(), [&](const Instruction& in) {
+            return in.op == Instruction::Op::kSlot &&
+                   intent.slots[static_cast<std::size_t>(in.a)].entity;
+          });
+        });
   }
   // True when `parse` fills a person-or-thing slot of intent `k` with a known contact or
   // words that name one without the benefit of the doubt (slot_plausibility.h, strict).
   // With `contacts_only`, only a known contact counts.
-  bool fills_entity_strictly(std::size_t k, const TolerantMatch& parse,
-                             const ContactBook& contacts, bool contacts_only) const {
+  bool fills_entity_strictly(std::size_t k, const TolerantMatch& parse, const ContactBook& contacts,
+                             bool contacts_only) const {
     return std::any_of(parse.slots.begin(), parse.slots.end(), [&](const SlotCapture& c) {
       if (!intents[k].slots[static_cast<std::size_t>(c.slot)].entity) return false;
       const std::vector<std::string> words = normalize(c.value.text);
@@ -172,8 +169,7 @@ struct Interpreter::Impl {
 
 Interpreter::Interpreter() : impl_(std::make_unique<Impl>()) {}
 Interpreter::~Interpreter() = default;
-Interpreter::Interpreter(const Interpreter& other)
-    : impl_(std::make_unique<Impl>(*other.impl_)) {}
+Interpreter::Interpreter(const Interpreter& other) : impl_(std::make_unique<Impl>(*other.impl_)) {}
 Interpreter& Interpreter::operator=(const Interpreter& other) {
   if (this != &other) impl_ = std::make_unique<Impl>(*other.impl_);
   return *this;
@@ -206,9 +202,9 @@ void Interpreter::add(const IntentSpec& spec) {
       }
       for (const std::string& value : slot.values) {
         if (normalize(value).empty()) {
-          throw TemplateError(intent_error(spec, "list slot \"" + slot.name +
-                                                     "\" has a value without words: \"" +
-                                                     value + "\""));
+          throw TemplateError(intent_error(
+              spec,
+              "list slot \"" + slot.name + "\" has a value without words: \"" + value + "\""));
         }
       }
     }
@@ -306,8 +302,7 @@ Builtin Interpreter::builtin(std::string_view utterance) const {
   return Builtin::kNone;
 }
 
-std::optional<Match> Interpreter::match(std::string_view utterance,
-                                        const Context& context) const {
+std::optional<Match> Interpreter::match(std::string_view utterance, const Context& context) const {
   Understanding u = understand(utterance, context);
   if (u.outcome == Understanding::Outcome::kMatch) return std::move(u.match);
   return std::nullopt;
@@ -388,6 +383,10 @@ constexpr float kAcceptProbability = 0.4F;
 constexpr float kNoneRatio = 2.0F;  // the top intent must be twice as likely as out of scope
 constexpr float kAcceptWithTemplate = 0.12F;  // when a template parses at a low cost
 constexpr float kNoneRatioWithTemplate = 0.25F;
+// The same for an intent with templates only (no examples): the model knows it only through
+// its template expansions, so its probability stays lower and moves with every other skill's
+// examples; its template fit is most of its evidence.
+constexpr float kNoneRatioTemplateOnly = 0.2F;
 constexpr float kLowTemplateCost = 1.5F;
 constexpr float kAskEach = 0.2F;
 constexpr float kAskTogether = 0.5F;
@@ -408,16 +407,31 @@ constexpr float kVeryLooseEntityTemplateCost = 3.5F;
 // utterance word -> template words it may stand for.
 const std::vector<std::pair<std::string, std::vector<std::string>>>& builtin_synonyms() {
   static const std::vector<std::pair<std::string, std::vector<std::string>>> table{
-      {"show", {"tell"}},         {"give", {"tell"}},          {"say", {"tell"}},
-      {"read", {"tell"}},         {"delete", {"cancel", "remove"}},
-      {"remove", {"cancel", "delete"}}, {"erase", {"cancel", "delete", "remove"}},
-      {"clear", {"cancel", "delete", "remove"}}, {"cancel", {"delete", "remove"}},
-      {"create", {"set", "add", "make"}}, {"make", {"set", "add"}},
-      {"start", {"set"}},         {"put", {"add", "set"}},     {"schedule", {"set", "add"}},
-      {"calendar", {"schedule"}}, {"agenda", {"schedule"}},    {"diary", {"schedule"}},
-      {"planner", {"schedule"}},  {"lamp", {"light"}},         {"lights", {"light"}},
-      {"hi", {"hello"}},          {"hey", {"hello"}},          {"today's", {"today"}},
-      {"current", {"the"}},       {"which", {"what"}},
+      {"show", {"tell"}},
+      {"give", {"tell"}},
+      {"say", {"tell"}},
+      {"read", {"tell"}},
+      {"delete", {"cancel", "remove"}},
+      {"remove", {"cancel", "delete"}},
+      {"erase", {"cancel", "delete", "remove"}},
+      {"clear", {"cancel", "delete", "remove"}},
+      {"cancel", {"delete", "remove"}},
+      {"create", {"set", "add", "make"}},
+      {"make", {"set", "add"}},
+      {"start", {"set"}},
+      {"put", {"add", "set"}},
+      {"schedule", {"set", "add"}},
+      {"calendar", {"schedule"}},
+      {"agenda", {"schedule"}},
+      {"diary", {"schedule"}},
+      {"planner", {"schedule"}},
+      {"lamp", {"light"}},
+      {"lights", {"light"}},
+      {"hi", {"hello"}},
+      {"hey", {"hello"}},
+      {"today's", {"today"}},
+      {"current", {"the"}},
+      {"which", {"what"}},
   };
   return table;
 }
@@ -433,9 +447,9 @@ std::string join_words(const std::vector<std::string>& words) {
 
 // Sample words for a slot when expanding templates into training sentences.
 std::vector<std::vector<std::string>> slot_samples(const PreparedSlot& slot) {
-  static const std::array<const char*, 9> kWhen{
-      "tomorrow at 8 am", "at 6 pm",      "on monday",    "tonight",    "in 20 minutes",
-      "at noon",          "every day at 9", "next friday", "at 7:30"};
+  static const std::array<const char*, 9> kWhen{"tomorrow at 8 am", "at 6 pm",       "on monday",
+                                                "tonight",          "in 20 minutes", "at noon",
+                                                "every day at 9",   "next friday",   "at 7:30"};
   static const std::array<const char*, 5> kDuration{"10 minutes", "an hour", "30 seconds",
                                                     "2 hours", "5 minutes"};
   static const std::array<const char*, 4> kText{"something", "the thing", "it", "that"};
@@ -470,7 +484,8 @@ std::vector<std::vector<std::string>> slot_samples(const PreparedSlot& slot) {
 class TemplateExpander {
  public:
   TemplateExpander(const CompiledTemplate& compiled, const std::vector<std::string>& words_by_id,
-           const std::vector<std::vector<std::vector<std::string>>>& samples, std::size_t limit)
+                   const std::vector<std::vector<std::vector<std::string>>>& samples,
+                   std::size_t limit)
       : program_(compiled.program), words_by_id_(words_by_id), samples_(samples), limit_(limit) {}
 
   std::vector<std::vector<std::string>> run() {
@@ -529,10 +544,10 @@ class TemplateExpander {
 
 // `sentence` with each single-word synonym of the intent put in for its word, one variant
 // per synonym (at most a few).
-void add_synonym_variants(const std::vector<std::string>& sentence,
-                          const std::vector<std::pair<std::string, std::vector<std::string>>>&
-                              synonyms,
-                          int label, std::vector<LabelledSentence>& out) {
+void add_synonym_variants(
+    const std::vector<std::string>& sentence,
+    const std::vector<std::pair<std::string, std::vector<std::string>>>& synonyms, int label,
+    std::vector<LabelledSentence>& out) {
   int added = 0;
   for (const auto& [word, alternatives] : synonyms) {
     std::vector<std::string> key = normalize(word);
@@ -561,9 +576,8 @@ std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
   if (model) return model;
   auto state = std::make_shared<ModelState>();
   std::vector<std::string> words_by_id(vocabulary.size());
-  vocabulary.for_each([&](const std::string& word, int id) {
-    words_by_id[static_cast<std::size_t>(id)] = word;
-  });
+  vocabulary.for_each(
+      [&](const std::string& word, int id) { words_by_id[static_cast<std::size_t>(id)] = word; });
   state->word_stems.reserve(words_by_id.size());
   for (const std::string& w : words_by_id) state->word_stems.push_back(stem(w));
 
@@ -594,8 +608,7 @@ std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
         std::clamp(kExpansionsPerIntent / intent.templates.size(), kMinExpansionsPerTemplate,
                    kMaxExpansionsPerTemplate);
     for (const CompiledTemplate& compiled : intent.templates) {
-      for (auto& sentence :
-           TemplateExpander(compiled, words_by_id, samples, per_template).run()) {
+      for (auto& sentence : TemplateExpander(compiled, words_by_id, samples, per_template).run()) {
         // Trained on what understand() will look at: the request without politeness.
         std::vector<std::string> request = strip_politeness(sentence);
         add_synonym_variants(request, intent.spec.synonyms, label, sentences);
@@ -619,8 +632,8 @@ std::shared_ptr<const ModelState> Interpreter::Impl::ensure_model() const {
   }
   for (std::size_t d = 0; d < ModelState::kDialogue.size(); ++d) {
     for (const std::string& text : dialogue_sentences(ModelState::kDialogue[d])) {
-      sentences.push_back({strip_politeness(normalize(text)),
-                           state->none_class + 1 + static_cast<int>(d)});
+      sentences.push_back(
+          {strip_politeness(normalize(text)), state->none_class + 1 + static_cast<int>(d)});
     }
   }
   state->model = IntentModel::train(
@@ -648,9 +661,9 @@ std::vector<std::optional<TemplateMatch>> Interpreter::Impl::exact_matches(
     IntentSlotReader reader(intent, context, contacts);
     for (const CompiledTemplate& compiled : intent.templates) {
       if (words.size() < compiled.min_words || words.size() > compiled.max_words) continue;
-      bool has_all = std::all_of(
-          compiled.required_words.begin(), compiled.required_words.end(),
-          [&](int id) { return present[static_cast<std::size_t>(id)] != 0; });
+      bool has_all =
+          std::all_of(compiled.required_words.begin(), compiled.required_words.end(),
+                      [&](int id) { return present[static_cast<std::size_t>(id)] != 0; });
       if (!has_all) continue;
       auto m = match_template(compiled, words, ids, reader);
       if (m && (!found[k] || ranks_above(*m, *found[k]))) found[k] = std::move(m);
@@ -762,8 +775,8 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     const CompiledIntent& intent = impl.intents[order[r]];
     IntentSlotReader reader(intent, context, contacts);
     for (const CompiledTemplate& compiled : intent.templates) {
-      auto m = match_tolerant(compiled, input, state->word_stems, state->synonyms[order[r]],
-                              reader);
+      auto m =
+          match_tolerant(compiled, input, state->word_stems, state->synonyms[order[r]], reader);
       if (m && (!parses[r] || m->cost < parses[r]->cost ||
                 (m->cost == parses[r]->cost && m->literal_words > parses[r]->literal_words))) {
         parses[r] = std::move(m);
@@ -844,9 +857,12 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost &&
                         (parses[0]->cost == 0 || parses[0]->literal_words >= 2);
   const bool close_call = p2 >= kAskEach && p2 >= kCloseCall * p1 && !low_cost;
+  const float none_ratio_with_template = impl.intents[order[0]].spec.examples.empty()
+                                             ? kNoneRatioTemplateOnly
+                                             : kNoneRatioWithTemplate;
   if (!close_call &&
       ((p1 > p_none * kNoneRatio && p1 >= kAcceptProbability) ||
-       (low_cost && p1 >= kAcceptWithTemplate && p1 >= p_none * kNoneRatioWithTemplate))) {
+       (low_cost && p1 >= kAcceptWithTemplate && p1 >= p_none * none_ratio_with_template))) {
     u.match = reading(0);
     u.outcome = Understanding::Outcome::kMatch;
     u.reason = p1 >= kAcceptProbability ? "the model is sure" : "close template and model agree";

@@ -57,6 +57,7 @@ PreparedSlot prepare_slot(const SlotSpec& spec) {
     case SlotType::kText:
       slot.max_words = kTextSlotMaxWords;
       slot.entity = is_entity_slot(spec.name);
+      slot.device = is_device_slot(spec.name);
       break;
   }
   return slot;
@@ -88,9 +89,8 @@ std::optional<std::string> ContactBook::find(std::span<const std::string> words)
 }
 
 std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
-                                         std::span<const std::string> words,
-                                         const Context& context, const ContactBook& contacts,
-                                         std::size_t text_max_words) {
+                                         std::span<const std::string> words, const Context& context,
+                                         const ContactBook& contacts, std::size_t text_max_words) {
   if (words.empty()) return std::nullopt;
   switch (slot.spec.type) {
     case SlotType::kNumber: {
@@ -137,8 +137,10 @@ std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
       }
       // "the" or "of the" is no value; a person or thing must look like one.
       if (only_function_words(words)) return std::nullopt;
-      if (slot.entity && !contacts.find(words) &&
-          !plausible_entity(words, WordNet::installed())) {
+      if (slot.entity && !contacts.find(words) && !plausible_entity(words, WordNet::installed())) {
+        return std::nullopt;
+      }
+      if (slot.device && !contacts.find(words) && !plausible_device(words, WordNet::installed())) {
         return std::nullopt;
       }
       std::string text = join(words);

@@ -20,6 +20,7 @@ struct PreparedSlot {
   std::vector<std::vector<std::string>> list_words;  // kList: normalised values[i]
   std::size_t max_words = 1;
   bool entity = false;  // kText naming a person or thing (slot_plausibility.h)
+  bool device = false;  // kText naming a made thing: a `device` slot (slot_plausibility.h)
 };
 
 PreparedSlot prepare_slot(const SlotSpec& spec);
@@ -45,8 +46,7 @@ inline constexpr std::size_t kContactMaxWords = 4;
 // `words` (all of them) as a value of `slot`; nullopt if they are not one.
 // `text_max_words` bounds kText. Throws std::runtime_error for an unknown time zone.
 std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
-                                         std::span<const std::string> words,
-                                         const Context& context, const ContactBook& contacts,
-                                         std::size_t text_max_words);
+                                         std::span<const std::string> words, const Context& context,
+                                         const ContactBook& contacts, std::size_t text_max_words);
 
 }  // namespace marvin::interpret

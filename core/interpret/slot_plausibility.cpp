@@ -42,9 +42,16 @@ constexpr std::array<std::string_view, 8> kClauseStarts{"it",  "i",  "you",  "he
 
 // First words of a question or clause, never of a name: "where is {what}" tolerantly fits
 // "where does cannabis come from" with "does cannabis".
-constexpr std::array<std::string_view, 12> kQuestionStarts{
-    "do",      "does", "did",   "why",    "how",   "whether",
-    "can",     "could", "should", "would", "shall", "must"};
+constexpr std::array<std::string_view, 12> kQuestionStarts{"do",     "does",    "did",   "why",
+                                                           "how",    "whether", "can",   "could",
+                                                           "should", "would",   "shall", "must"};
+
+// Short names of household devices that WordNet files only under other senses ("ac":
+// actinium, alternating current).
+constexpr std::array<std::string_view, 6> kDeviceAbbreviations{"ac", "a/c", "hvac",
+                                                               "tv", "pc",  "aircon"};
+
+constexpr int kNounArtifact = 6;  // WordNet lexname noun.artifact
 
 // WordNet lexnames of abstract nouns (see the header).
 constexpr std::array<int, 13> kAbstract{4, 7, 9, 10, 11, 12, 16, 19, 22, 24, 25, 26, 28};
@@ -57,6 +64,33 @@ bool listed(const std::array<std::string_view, N>& table, std::string_view word)
 }  // namespace
 
 bool is_entity_slot(std::string_view slot_name) { return listed(kEntitySlotNames, slot_name); }
+
+bool is_device_slot(std::string_view slot_name) { return slot_name == "device"; }
+
+bool plausible_device(std::span<const std::string> words, const WordNet* wordnet) {
+  if (wordnet == nullptr) return true;
+  std::size_t begin = 0;
+  while (begin + 1 < words.size() && listed(kDeterminers, words[begin])) ++begin;
+  std::size_t end = begin;
+  while (end < words.size() && !listed(kHeadEnds, words[end]) &&
+         !(end > begin && listed(kClauseStarts, words[end]))) {
+    ++end;
+  }
+  if (end == begin) return false;
+  const std::string& head = words[end - 1];
+  if (listed(kReferences, head)) return true;
+  if (wordnet->noun_categories(head, 1).empty() && !wordnet->is_verb_adjective_or_adverb(head)) {
+    return true;  // a name WordNet does not know
+  }
+  for (std::size_t i = begin; i < end; ++i) {
+    if (listed(kDeviceAbbreviations, words[i])) return true;
+    const std::vector<int> categories = wordnet->noun_categories(words[i], 4);
+    if (std::find(categories.begin(), categories.end(), kNounArtifact) != categories.end()) {
+      return true;
+    }
+  }
+  return false;
+}
 
 bool only_function_words(std::span<const std::string> words) {
   return std::all_of(words.begin(), words.end(),

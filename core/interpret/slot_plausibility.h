@@ -37,6 +37,15 @@ bool is_entity_slot(std::string_view slot_name);
 bool plausible_entity(std::span<const std::string> words, const WordNet* wordnet,
                       bool strict = false);
 
+// A slot called `device` names a made thing, not a thing in the world: its head word (or a
+// word before it: "the vacuum cleaner") is a noun with an artifact sense (WordNet's
+// noun.artifact) among its first four, a word WordNet does not know (a name: "aircon"), a
+// reference ("it", "everything") or a household abbreviation ("ac", "tv"). So "the
+// temperature of the sun" and "the friendliest breed" do not fill `the temperature of the
+// {device}` or `what is [the] {device} doing`. Call after plausible_entity() holds.
+bool is_device_slot(std::string_view slot_name);
+bool plausible_device(std::span<const std::string> words, const WordNet* wordnet);
+
 // True when every word is a function word ("the", "a", "of", "to", ...): never a slot value.
 bool only_function_words(std::span<const std::string> words);
 

@@ -1,8 +1,11 @@
 // Built-in skill "time": says the time or the date, from the host's clock in the owner's
 // time zone. "what time is it" -> "It's 3:05 PM."; "what day is it" -> "Today is
-// Saturday, 21 November 2026."
+// Saturday, 21 November 2026." With a place ("what time is it in new york"), the time there
+// when the tz database names a zone after it ("America/New_York"); otherwise the local time
+// and a word that the place is unknown.
 #include <date/tz.h>
 
+#include <cctype>
 #include <chrono>
 #include <marvin/skill.hpp>
 #include <string>
@@ -18,13 +21,20 @@ class TimeSkill : public marvin::Skill {
         date::sys_time<std::chrono::milliseconds>{std::chrono::milliseconds{robot().now_ms()}};
     auto local = date::make_zoned(zone(), date::floor<std::chrono::minutes>(now)).get_local_time();
     if (request.intent == "time") {
-      auto day = date::floor<date::days>(local);
-      auto minute_of_day = std::chrono::duration_cast<std::chrono::minutes>(local - day).count();
-      auto hour = minute_of_day / 60;
-      auto hour12 = hour % 12 == 0 ? 12 : hour % 12;
-      std::string minutes = std::to_string(minute_of_day % 60);
-      if (minutes.size() < 2) minutes = "0" + minutes;
-      robot().say("It's " + std::to_string(hour12) + ":" + minutes + (hour < 12 ? " AM." : " PM."));
+      const std::string place = request.slots.value("place", std::string());
+      if (place.empty()) {
+        robot().say("It's " + clock_text(local) + ".");
+        return;
+      }
+      if (const date::time_zone* there = zone_named_after(place)) {
+        auto there_local =
+            date::make_zoned(there, date::floor<std::chrono::minutes>(now)).get_local_time();
+        robot().say("In " + title_case(there->name().substr(there->name().rfind('/') + 1)) +
+                    " it's " + clock_text(there_local) + ".");
+      } else {
+        robot().say("I don't know the time zone of " + title_case(place) + ". Here it's " +
+                    clock_text(local) + ".");
+      }
     } else if (request.intent == "day") {
       auto day = date::floor<date::days>(local);
       date::year_month_day ymd{day};
@@ -37,6 +47,56 @@ class TimeSkill : public marvin::Skill {
   }
 
  private:
+  static std::string clock_text(date::local_seconds local) {
+    auto day = date::floor<date::days>(local);
+    auto minute_of_day = std::chrono::duration_cast<std::chrono::minutes>(local - day).count();
+    auto hour = minute_of_day / 60;
+    auto hour12 = hour % 12 == 0 ? 12 : hour % 12;
+    std::string minutes = std::to_string(minute_of_day % 60);
+    if (minutes.size() < 2) minutes = "0" + minutes;
+    return std::to_string(hour12) + ":" + minutes + (hour < 12 ? " AM" : " PM");
+  }
+
+  // "new york" -> "New York"; "New_York" -> "New York".
+  static std::string title_case(std::string text) {
+    bool start = true;
+    for (char& c : text) {
+      if (c == '_') c = ' ';  // zone names: "New_York"
+      if (start) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      start = c == ' ';
+    }
+    return text;
+  }
+
+  // The zone whose city part is the place ("America/New_York" for "new york", "Europe/London"
+  // for "london", "America/Mexico_City" for "mexico"), compared without case, "_" read as a
+  // space; nullptr when none is. Countries are not looked up (the tz database names cities).
+  static const date::time_zone* zone_named_after(std::string place) {
+    for (const char* article : {"the "}) {
+      if (place.rfind(article, 0) == 0) place.erase(0, std::string(article).size());
+    }
+    // "in new york right now": words about now are no part of the place.
+    for (const char* tail : {" right now", " now", " today", " at the moment"}) {
+      const std::string t = tail;
+      if (place.size() > t.size() && place.compare(place.size() - t.size(), t.size(), t) == 0) {
+        place.erase(place.size() - t.size());
+        break;
+      }
+    }
+    if (place.empty()) return nullptr;
+    for (const date::time_zone& z : date::get_tzdb().zones) {
+      const std::string& name = z.name();
+      const auto slash = name.rfind('/');
+      if (slash == std::string::npos) continue;  // "UTC", "EST": no city
+      std::string city = name.substr(slash + 1);
+      for (char& c : city) {
+        c = c == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      }
+      if (city == place || city == place + " city") return &z;  // "mexico" -> Mexico_City
+    }
+    return nullptr;
+  }
+
   const date::time_zone* zone() {
     std::string name = robot().time_zone();
     try {

@@ -1,9 +1,8 @@
+#include <date/date.h>
 #include <doctest/doctest.h>
 
 #include <chrono>
 #include <string>
-
-#include <date/date.h>
 
 #include "interpret/interpreter.h"
 
@@ -15,10 +14,10 @@ namespace {
 // Friday 2024-03-29 10:00 in Berlin.
 Context home_context() {
   Context context;
-  context.now_utc_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
-                           (date::sys_days{2024_y / 3 / 29} + std::chrono::hours(9))
-                               .time_since_epoch())
-                           .count();
+  context.now_utc_ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(
+          (date::sys_days{2024_y / 3 / 29} + std::chrono::hours(9)).time_since_epoch())
+          .count();
   context.time_zone = "Europe/Berlin";
   context.contact_names = {"Anna Schmidt", "Bob", "Dr. Meyer", "Anna Weber"};
   return context;
@@ -26,7 +25,8 @@ Context home_context() {
 
 Interpreter home_interpreter() {
   Interpreter interpreter;
-  interpreter.add({"time", "query", {"what time is it", "what's the time", "(tell me|what is) the time"}, {}});
+  interpreter.add(
+      {"time", "query", {"what time is it", "what's the time", "(tell me|what is) the time"}, {}});
   interpreter.add({"timer",
                    "set",
                    {"(set|start) [a] timer for {duration}", "{duration} timer"},
@@ -39,15 +39,14 @@ Interpreter home_interpreter() {
                    "switch",
                    {"turn (on|off) [the] {device}", "(switch|turn) [the] {device} (on|off)"},
                    {{"device", SlotType::kList, {"lamp", "fan", "Living Room Light"}}}});
-  interpreter.add({"phone",
-                   "call",
-                   {"(call|phone|ring) {who}"},
-                   {{"who", SlotType::kContact, {}}}});
+  interpreter.add(
+      {"phone", "call", {"(call|phone|ring) {who}"}, {{"who", SlotType::kContact, {}}}});
   interpreter.add({"volume",
                    "set",
                    {"set [the] volume to {level} [percent]"},
                    {{"level", SlotType::kNumber, {}}}});
-  interpreter.add({"notes", "take", {"(take|make) a note [that] {text}"}, {{"text", SlotType::kText, {}}}});
+  interpreter.add(
+      {"notes", "take", {"(take|make) a note [that] {text}"}, {{"text", SlotType::kText, {}}}});
   return interpreter;
 }
 
@@ -60,8 +59,8 @@ TEST_CASE("matching: utterance -> intent + slots") {
     const char* utterance;
     const char* skill;
     const char* intent;
-    const char* slot;        // one slot to check, or ""
-    nlohmann::json value;    // its normalised value
+    const char* slot;      // one slot to check, or ""
+    nlohmann::json value;  // its normalised value
   };
   const Case cases[] = {
       {"What time is it?", "time", "query", "", nullptr},
@@ -136,7 +135,7 @@ TEST_CASE("matching: near misses do not match") {
       "set the volume to 5 6",          // two numbers
       "remind me to take my pills",     // no time
       "remind me to take my pills at 25 pm",
-      "take a note",                                              // text needs a word
+      "take a note",                                               // text needs a word
       "take a note one two three four five six seven eight nine",  // text is at most 8 words
       "please",
       "what is the weather",
@@ -159,7 +158,8 @@ TEST_CASE("matching: first names resolve when unique") {
 
 TEST_CASE("ranking: literal words beat wildcard text") {
   Interpreter interpreter;
-  interpreter.add({"search", "anything", {"turn on [the] {thing}"}, {{"thing", SlotType::kText, {}}}});
+  interpreter.add(
+      {"search", "anything", {"turn on [the] {thing}"}, {{"thing", SlotType::kText, {}}}});
   interpreter.add({"radio", "on", {"turn on the radio"}, {}});
   Context context;
   auto match = interpreter.match("turn on the radio", context);
@@ -180,7 +180,8 @@ TEST_CASE("ranking: a typed slot beats a text slot with the same literal words")
     CAPTURE(text_first);
     Interpreter interpreter;
     IntentSpec text{"notes", "timer_note", {"timer for {what}"}, {{"what", SlotType::kText, {}}}};
-    IntentSpec typed{"timer", "set", {"timer for {duration}"}, {{"duration", SlotType::kDuration, {}}}};
+    IntentSpec typed{
+        "timer", "set", {"timer for {duration}"}, {{"duration", SlotType::kDuration, {}}}};
     interpreter.add(text_first ? text : typed);
     interpreter.add(text_first ? typed : text);
     auto match = interpreter.match("timer for ten minutes", Context{});
@@ -218,7 +219,9 @@ TEST_CASE("ranking: ties go to the intent registered first, every time") {
 
 TEST_CASE("ranking: within a template the parse with more literal words wins") {
   Interpreter interpreter;
-  interpreter.add({"reminders", "add", {"remind me [to] {task} [at] {when}"},
+  interpreter.add({"reminders",
+                   "add",
+                   {"remind me [to] {task} [at] {when}"},
                    {{"task", SlotType::kText, {}}, {"when", SlotType::kDateTime, {}}}});
   auto match = interpreter.match("remind me to water the plants at 9 pm", home_context());
   REQUIRE(match);
@@ -229,8 +232,8 @@ TEST_CASE("ranking: within a template the parse with more literal words wins") {
 
 TEST_CASE("conflicts: sentences claimed by two skills") {
   Interpreter interpreter;
-  interpreter.add({"lights", "on", {"turn on [the] {device}"},
-                   {{"device", SlotType::kList, {"lamp", "fan"}}}});
+  interpreter.add(
+      {"lights", "on", {"turn on [the] {device}"}, {{"device", SlotType::kList, {"lamp", "fan"}}}});
   interpreter.add({"power", "switch_on", {"(turn|switch) on the lamp"}, {}});
   interpreter.add({"lights", "on_again", {"turn on the fan"}, {}});  // same skill: fine
   interpreter.add({"kitchen", "on", {"turn on the kettle"}, {}});    // different words
@@ -267,24 +270,52 @@ TEST_CASE("builtins: stop, yes, no, repeat") {
     Builtin expected;
   };
   const Case cases[] = {
-      {"stop", Builtin::kStop},          {"Cancel!", Builtin::kStop},
-      {"Marvin, stop", Builtin::kStop},  {"never mind", Builtin::kStop},
-      {"please stop", Builtin::kStop},   {"hey marvin cancel that", Builtin::kStop},
-      {"yes", Builtin::kYes},            {"Yeah.", Builtin::kYes},
-      {"sure", Builtin::kYes},           {"yes please", Builtin::kYes},
-      {"no", Builtin::kNo},              {"Nope", Builtin::kNo},
-      {"no thank you", Builtin::kNo},    {"repeat", Builtin::kRepeat},
-      {"say that again", Builtin::kRepeat}, {"Marvin, say that again please", Builtin::kRepeat},
-      {"", Builtin::kNone},              {"marvin", Builtin::kNone},
-      {"stop the music", Builtin::kNone}, {"yes no", Builtin::kNone},
-      {"what time is it", Builtin::kNone}, {"please", Builtin::kNone},
+      {"stop", Builtin::kStop},
+      {"Cancel!", Builtin::kStop},
+      {"Marvin, stop", Builtin::kStop},
+      {"never mind", Builtin::kStop},
+      {"please stop", Builtin::kStop},
+      {"hey marvin cancel that", Builtin::kStop},
+      {"yes", Builtin::kYes},
+      {"Yeah.", Builtin::kYes},
+      {"sure", Builtin::kYes},
+      {"yes please", Builtin::kYes},
+      {"no", Builtin::kNo},
+      {"Nope", Builtin::kNo},
+      {"no thank you", Builtin::kNo},
+      {"repeat", Builtin::kRepeat},
+      {"say that again", Builtin::kRepeat},
+      {"Marvin, say that again please", Builtin::kRepeat},
+      {"", Builtin::kNone},
+      {"marvin", Builtin::kNone},
+      {"stop the music", Builtin::kNone},
+      {"yes no", Builtin::kNone},
+      {"what time is it", Builtin::kNone},
+      {"please", Builtin::kNone},
       // After fillers and lead-ins; "never mind that" is stop, not "never".
-      {"oh never mind that", Builtin::kStop}, {"i want to cancel that", Builtin::kStop},
-      {"um forget it", Builtin::kStop},  {"scratch that", Builtin::kStop},
-      {"actually yes", Builtin::kYes},   {"sure thing", Builtin::kYes},
-      {"well no", Builtin::kNo},         {"not at all", Builtin::kNo},
+      {"oh never mind that", Builtin::kStop},
+      {"i want to cancel that", Builtin::kStop},
+      {"um forget it", Builtin::kStop},
+      {"scratch that", Builtin::kStop},
+      {"actually yes", Builtin::kYes},
+      {"sure thing", Builtin::kYes},
+      {"well no", Builtin::kNo},
+      {"not at all", Builtin::kNo},
       {"i want to cancel my dentist reminder", Builtin::kNone},
-      {"oh stop the music", Builtin::kNone}, {"i want to know the time", Builtin::kNone},
+      {"oh stop the music", Builtin::kNone},
+      {"i want to know the time", Builtin::kNone},
+      // Declining in passing, and saying it again after a lead-in.
+      {"I'll pass", Builtin::kNo},
+      {"i will pass on that thanks", Builtin::kNo},
+      {"no need", Builtin::kNo},
+      {"I said no!", Builtin::kNo},
+      {"i repeat, stop", Builtin::kStop},
+      {"i told you to cancel it", Builtin::kStop},
+      {"No, just cancel it", Builtin::kStop},
+      {"no no stop", Builtin::kStop},
+      {"no just cancel my dentist reminder", Builtin::kNone},
+      {"pass the salt", Builtin::kNone},
+      {"i told you to cancel my reminder", Builtin::kNone},
   };
   for (const Case& c : cases) {
     std::string utterance = c.utterance;
@@ -310,8 +341,8 @@ TEST_CASE("parse_slot: dialogue answers") {
       interpreter.parse_slot({"d", SlotType::kDuration, {}}, "for half an hour", context);
   REQUIRE(duration);
   CHECK(duration->value == 1800);
-  auto device = interpreter.parse_slot({"device", SlotType::kList, {"lamp", "fan"}}, "The lamp.",
-                                       context);
+  auto device =
+      interpreter.parse_slot({"device", SlotType::kList, {"lamp", "fan"}}, "The lamp.", context);
   REQUIRE(device);
   CHECK(device->value == "lamp");
   auto text = interpreter.parse_slot(
@@ -330,7 +361,9 @@ TEST_CASE("parse_slot: dialogue answers") {
 
 TEST_CASE("matching: a text slot never holds only 'me', 'us' or 'you'") {
   Interpreter interpreter;
-  interpreter.add({"finding", "tell", {"tell {name} {message}"},
+  interpreter.add({"finding",
+                   "tell",
+                   {"tell {name} {message}"},
                    {{"name", SlotType::kText, {}}, {"message", SlotType::kText, {}}}});
   Context context;
   // Asking Marvin, not asking it to pass a message on.

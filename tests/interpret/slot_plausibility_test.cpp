@@ -175,3 +175,35 @@ TEST_CASE(
     CHECK(u.match->intent == "find");
   }
 }
+
+TEST_CASE("a device slot names a made thing: an appliance, a room, a name; not the world") {
+  auto device = [](const char* text) {
+    return mi::plausible_device(mi::normalize(text), plausibility_wordnet());
+  };
+  for (const char* yes : {"the porch light", "the heater", "the living room lamps", "the ac",
+                          "the tv", "the vacuum", "the fan in the office", "everything", "it",
+                          "the thermostat", "the garage door", "kitchen", "the zorbatron"}) {
+    CAPTURE(std::string(yes));
+    CHECK(device(yes));
+  }
+  for (const char* no :
+       {"the sun", "the sea", "the friendliest breed", "the music", "the economy", "my mood"}) {
+    CAPTURE(std::string(no));
+    CHECK_FALSE(device(no));
+  }
+  CHECK(mi::is_device_slot("device"));
+  CHECK_FALSE(mi::is_device_slot("what"));
+
+  // Through the interpreter: the template fits word for word, the slot refuses the sun.
+  mi::Interpreter home;
+  home.add({"home",
+            "query",
+            {"what is the temperature of the {device}", "is [the] {device} on"},
+            {{"device", mi::SlotType::kText, {}}}});
+  const mi::Context context = plausibility_context();
+  auto fridge = home.match_exact("what is the temperature of the fridge", context);
+  REQUIRE(fridge);
+  CHECK(fridge->slots.at("device").text == "fridge");
+  CHECK_FALSE(home.match_exact("what is the temperature of the sun", context));
+  CHECK_FALSE(home.match("what is the temperature of the sun", context));
+}

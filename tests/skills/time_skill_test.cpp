@@ -47,3 +47,18 @@ TEST_CASE("an unknown time zone falls back to UTC instead of failing") {
   harness.robot().set_time_zone("Mars/Olympus_Mons");
   CHECK(harness.say("what time is it") == Lines{"It's 2:05 PM."});
 }
+
+TEST_CASE("the time in a city the tz database names; the local time when it names none") {
+  marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
+  harness.robot().set_now(kSaturdayAfternoonUtc);  // 14:05 UTC
+  harness.robot().set_time_zone("Europe/Berlin");
+  CHECK(harness.say("what time is it in tokyo") == Lines{"In Tokyo it's 11:05 PM."});
+  CHECK(harness.say("what's the time in New York?") == Lines{"In New York it's 9:05 AM."});
+  CHECK(harness.say("could you tell me the current time in london") ==
+        Lines{"In London it's 2:05 PM."});
+  CHECK(harness.say("what time is it in mexico") == Lines{"In Mexico City it's 8:05 AM."});
+  CHECK(harness.say("what's the time in new york right now") == Lines{"In New York it's 9:05 AM."});
+  CHECK(harness.say("what time is it in atlantis") ==
+        Lines{"I don't know the time zone of Atlantis. Here it's 3:05 PM."});
+  CHECK(harness.say("what time is it") == Lines{"It's 3:05 PM."});  // no place: here
+}
