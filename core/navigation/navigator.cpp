@@ -113,6 +113,7 @@ GoResult Navigator::go(std::string_view name, const WaitFn& wait, double speed_f
   speed_factor_ = speed_factor;
   on_event_ = on_event;
   told_obstacle_ms_ = -1000000;
+  told_drops_.clear();
   GoResult result;
   std::optional<Target> target = map_.find(name);
   if (!target) {
@@ -322,7 +323,9 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
       const Vec2 in = wp - path[i - 1], out = path[i + 1] - wp;
       turn_deg = degrees(wrap_angle(std::atan2(out.y, out.x) - std::atan2(in.y, in.x)));
     }
-    bool turn_told = std::fabs(turn_deg) < 35;
+    // Only real corners are told: a turn of 35° or more after a leg of 0.8 m or more (the
+    // short legs of a path planned around something would be a stream of turns).
+    bool turn_told = std::fabs(turn_deg) < 35 || distance(path[i - 1], wp) < 0.8;
     while (true) {
       if (stop_requested_.load() || wait(step_ms) || stop_requested_.load()) {
         body_.stop();
@@ -406,7 +409,13 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
           }
           marked = new_mark = true;
         }
-        if ((new_mark || stop) && horizontal < options_.announce_m &&
+        // Told: what is new within announce_m, not a wall or furniture of the map (an echo
+        // from it can land a cell short of it), nor a step down already told within 1 m.
+        const bool on_map = grid_.near_static(hit, 0.15);
+        const bool told_before =
+            drop && std::any_of(told_drops_.begin(), told_drops_.end(),
+                                [&](Vec2 d) { return distance(d, hit) < 1.0; });
+        if ((new_mark || stop) && !on_map && !told_before && horizontal < options_.announce_m &&
             (!news || horizontal < news->distance_m)) {
           news.emplace();
           news->event = drop ? "step_down" : "obstacle";
@@ -427,6 +436,10 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
       // Told sparingly: a step down always, other things at most every 3 s of robot time
       // (and always when the robot stops for one).
       if (news) news->stopped = stopped;
+      if (news && news->event == "step_down") {
+        told_drops_.push_back({pose.x + std::cos(pose.heading) * news->distance_m,
+                               pose.y + std::sin(pose.heading) * news->distance_m});
+      }
       if (news && (news->event == "step_down" || news->stopped || now - told_obstacle_ms_ > 3000)) {
         told_obstacle_ms_ = now;
         news->distance_left_m = length_left(path, i, pose.position());

@@ -108,6 +108,7 @@ class Navigator : public GoingPlaces {
   double speed_factor_ = 1;
   const GuideFn* on_event_ = nullptr;
   std::int64_t told_obstacle_ms_ = 0;
+  std::vector<Vec2> told_drops_;  // steps down told during this trip
   std::atomic<bool> stop_requested_{false};
 };
 
