@@ -298,6 +298,82 @@ int l_go_to(lua_State* L) {
   return 1;
 }
 
+// Runs protected (lua_pcall): calls on_event (index 1) with the event table; its result.
+int call_guide_event(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  push_json(L, ctx->guide_event);
+  lua_call(L, 1, 1);
+  return 1;
+}
+
+// guide_to's on_event: `user` is the skill's lua_State, on_event at stack index 3. Nothing
+// here may raise a Lua error (the host's C++ frames are below): the Lua function runs
+// under lua_pcall; a Lua error stops the trip and l_guide_to raises it afterwards.
+int guide_event_trampoline(void* user, const char* event_json) {
+  auto* L = static_cast<lua_State*>(user);
+  SkillContext* ctx = SkillContext::from(L);
+  try {
+    ctx->guide_event = nlohmann::json::parse(event_json);
+  } catch (...) {
+    return 1;
+  }
+  if (!lua_checkstack(L, 4)) return 1;
+  Sandbox* sb = ctx->sandbox.get();
+  sb->resume_clock();  // the script's own time counts again while it runs
+  lua_pushcfunction(L, call_guide_event);
+  lua_pushvalue(L, 3);
+  const int status = lua_pcall(L, 1, 1, 0);
+  sb->pause_clock();
+  if (status != LUA_OK) {
+    try {
+      const char* why = lua_tostring(L, -1);
+      ctx->message = why ? why : "an error";
+    } catch (...) {
+    }
+    ctx->guide_failed = true;
+    lua_pop(L, 1);
+    return 1;
+  }
+  const bool stop = lua_isboolean(L, -1) && !lua_toboolean(L, -1);
+  lua_pop(L, 1);
+  return stop ? 1 : 0;
+}
+
+// ok, why = marvin.guide_to(place [, speed_percent [, on_event]]): go_to for leading a
+// person, at speed_percent (10..100; default 50) of the normal speed, calling
+// on_event(event) with each thing worth telling on the way (a table: event, distance_m,
+// distance_left_m, turn, kind, stopped); on_event returning false stops the trip.
+int l_guide_to(lua_State* L) {
+  SkillContext* ctx = SkillContext::from(L);
+  const char* place = luaL_checkstring(L, 1);
+  const lua_Integer speed = luaL_optinteger(L, 2, 50);
+  const bool has_event = !lua_isnoneornil(L, 3);
+  if (has_event) luaL_checktype(L, 3, LUA_TFUNCTION);
+  lua_settop(L, 3);
+  if (speed < 10 || speed > 100) {
+    return luaL_error(L, "marvin.guide_to: speed_percent must be 10 to 100, got %d",
+                      static_cast<int>(speed));
+  }
+  require_permission(L, ctx, "motion", "guide_to");
+  need(L, ctx, MARVIN_HAS_API(ctx, guide_to), "guide_to");
+  Sandbox* sb = ctx->sandbox.get();
+  ctx->guide_failed = false;
+  sb->pause_clock();  // the body's time is not the script's
+  const marvin_status status =
+      ctx->api->guide_to(ctx->host, place, static_cast<std::uint32_t>(speed),
+                         has_event ? guide_event_trampoline : nullptr, L);
+  sb->resume_clock();
+  if (ctx->guide_failed) return luaL_error(L, "%s", ctx->message.c_str());
+  if (status == MARVIN_ERR_NOT_FOUND || status == MARVIN_ERR_UNAVAILABLE) {
+    lua_pushboolean(L, 0);
+    lua_pushstring(L, ctx->api->last_error(ctx->host));
+    return 2;
+  }
+  check(L, ctx, "guide_to", status);
+  lua_pushboolean(L, 1);
+  return 1;
+}
+
 // marvin.where_am_i(): the room's name, or nil between rooms.
 int l_where_am_i(lua_State* L) {
   SkillContext* ctx = SkillContext::from(L);
@@ -796,7 +872,7 @@ void install_marvin_api(lua_State* L, SkillContext* ctx) {
   static const luaL_Reg top[] = {
       {"on", l_on},       {"say", l_say},     {"ask", l_ask},   {"light", l_light},
       {"move", l_move},   {"stop", l_stop},   {"tilt_head", l_tilt_head},
-      {"go_to", l_go_to}, {"where_am_i", l_where_am_i},
+      {"go_to", l_go_to}, {"guide_to", l_guide_to}, {"where_am_i", l_where_am_i},
       {"now", l_now},     {"after", l_after}, {"log", l_log},   {nullptr, nullptr}};
   set_functions(L, top);
 

@@ -61,6 +61,8 @@ struct SkillContext {
   std::string text;
   std::string message;
   nlohmann::json json;
+  nlohmann::json guide_event;  // the event marvin.guide_to's on_event is called with
+  bool guide_failed = false;   // on_event raised an error (its sentence in message)
 
   static SkillContext* from(lua_State* L) {
     return static_cast<SkillContext*>(Sandbox::from(L)->owner());

@@ -154,6 +154,16 @@ void SimRunner::inspect(const std::function<void(const Simulator&)>& f) const {
   std::lock_guard lock(mu_);
   f(sim_);
 }
+void SimRunner::on_fall(std::function<void(const navigation::Pose&, const std::string&)> f) {
+  std::lock_guard lock(mu_);
+  sim_.on_fall(std::move(f));
+}
+
+void SimRunner::set_sweep(int mode, int from, int to, int step) {
+  std::lock_guard lock(mu_);
+  sim_.set_sweep(mode, from, to, step);
+}
+
 void SimRunner::on_collision(std::function<void(const navigation::Pose&)> f) {
   std::lock_guard lock(mu_);
   sim_.on_collision(std::move(f));

@@ -59,6 +59,9 @@ class SimRunner : public devices::Body {
   // Runs `f` with the simulator locked (pictures, tests).
   void inspect(const std::function<void(const Simulator&)>& f) const;
   void on_collision(std::function<void(const navigation::Pose&)> f);
+  void on_fall(std::function<void(const navigation::Pose&, const std::string&)> f);
+  // The sonar's sweep (Simulator::set_sweep: mode, from, to, step; angles -45..120).
+  void set_sweep(int mode, int from, int to, int step);
   // Wakes every wait() so it re-checks its cancelled() (call after cancelling).
   void poke();
 

@@ -49,7 +49,7 @@ void Simulator::set_leds(std::uint8_t bits) { leds_ = bits; }
 
 void Simulator::set_sweep(int mode, int from, int to, int step) {
   sweep_mode_ = mode;
-  sweep_from_ = std::clamp(from, 0, 120);
+  sweep_from_ = std::clamp(from, -45, 120);
   sweep_to_ = std::clamp(to, sweep_from_, 120);
   sweep_step_ = std::clamp(step, 1, 60);
   sweep_dir_ = 1;
@@ -73,7 +73,7 @@ double Simulator::sonar_geometry_m(const Pose& pose, double angle_deg) const {
     heading += navigation::kPi;
     elevation = 180 - angle_deg;
   }
-  const double up = world_.wall_height_m - world_.robot.sonar_height_m;
+  const double h = world_.robot.sonar_height_m, up = world_.wall_height_m - h;
   double best = std::numeric_limits<double>::infinity();
   if (elevation > 0.01) best = up / std::sin(rad(elevation));  // the ceiling
   if (elevation < 89.99) {
@@ -83,12 +83,32 @@ double Simulator::sonar_geometry_m(const Pose& pose, double angle_deg) const {
     for (int k = 0; k < n; ++k) {
       const double off = n == 1 ? 0 : (k / (n - 1.0) - 0.5) * rad(options_.cone_deg);
       const Vec2 d{std::cos(heading + off), std::sin(heading + off)};
+      // Looking down: the floor, or in a step down its lower floor (or its far side).
+      double ray_best = best;
+      if (elevation < -0.01) {
+        double r = h / -tan_e;  // horizontal distance to the floor
+        for (const Drop& drop : world_.drops) {
+          if (!drop.box.contains(o + d * r)) continue;
+          r = (h + drop.depth_m) / -tan_e;
+          // Leaving the step's box before reaching its floor: its far side.
+          for (int axis = 0; axis < 2; ++axis) {
+            const double dv = axis == 0 ? d.x : d.y, ov = axis == 0 ? o.x : o.y;
+            if (std::fabs(dv) < 1e-12) continue;
+            const double bound = dv > 0 ? (axis == 0 ? drop.box.max.x : drop.box.max.y)
+                                        : (axis == 0 ? drop.box.min.x : drop.box.min.y);
+            r = std::min(r, (bound - ov) / dv);
+          }
+          break;
+        }
+        ray_best = std::min(ray_best, r / cos_e);
+      }
       for (const auto& s : solids_) {
         const double r = navigation::ray_segment(o, d, s.a, s.b);
-        if (r * cos_e >= best) continue;
-        if (world_.robot.sonar_height_m + r * tan_e > s.height) continue;  // passes over it
-        best = r / cos_e;
+        if (r / cos_e >= ray_best) continue;
+        if (h + r * tan_e > s.height) continue;  // passes over it
+        ray_best = r / cos_e;
       }
+      best = std::min(best, ray_best);  // the nearest echo of the cone comes back first
     }
   }
   return best;
@@ -143,6 +163,14 @@ void Simulator::step_base(double dt) {
     return;
   }
   touching_ = false;
+  for (const Drop& drop : world_.drops) {
+    if (drop.box.contains(next.position()) && !drop.box.contains(pose_.position())) {
+      ++falls_;
+      if (on_fall_) on_fall_(pose_, drop.name);
+      v_[0] = v_[1] = target_[0] = target_[1] = 0;
+      return;
+    }
+  }
   pose_ = next;
   // The encoders: each wheel's distance with a small random error.
   const double el = 1 + options_.odometry_noise * gauss_(rng_);

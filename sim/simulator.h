@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "sim/world.h"
@@ -46,7 +47,8 @@ class Simulator {
   void set_head(int degrees);  // target of the tilt servo, -60..60
   void set_leds(std::uint8_t bits);
   // Sonar sweep as SONAR_SWEEP sets it: mode 0 off, 1 sweep from..to by step (bouncing),
-  // 2 fixed at from. Angles 0..120. The firmware's default: 1, 0, 60, 15.
+  // 2 fixed at from. Angles -45..120 (negative looks down; the firmware's servo range is
+  // 0..120, the simulated one reaches down too). The firmware's default: 1, 0, 60, 15.
   void set_sweep(int mode, int from, int to, int step);
 
   // Advances the world by dt_s (at most 0.05 s; longer steps are split).
@@ -64,6 +66,8 @@ class Simulator {
   double sonar_servo_deg() const { return servo_deg_; }
   std::uint8_t leds() const { return leds_; }
   long collisions() const { return collisions_; }
+  // Times the robot's centre went over the edge of a step down (the world's "drops").
+  long falls() const { return falls_; }
   bool touching() const { return touching_; }
   // Readings taken so far at each angle: the latest per angle.
   const std::map<int, SonarSample>& latest_sonar() const { return latest_; }
@@ -71,6 +75,11 @@ class Simulator {
   // Called on each new collision with the pose where it happened.
   void on_collision(std::function<void(const navigation::Pose&)> f) {
     on_collision_ = std::move(f);
+  }
+  // Called on each fall with the pose at the edge and the step's name. The body stays at
+  // the edge with its motors cut (so a test can go on; a real robot would be on its side).
+  void on_fall(std::function<void(const navigation::Pose&, const std::string&)> f) {
+    on_fall_ = std::move(f);
   }
 
   // Where the body is in the way of a solid side: distance from the centre to the nearest.
@@ -96,9 +105,10 @@ class Simulator {
   double target_[2] = {0, 0}, v_[2] = {0, 0};
   double head_deg_ = 0, head_target_deg_ = 0;
   std::uint8_t leds_ = 0;
-  long collisions_ = 0;
+  long collisions_ = 0, falls_ = 0;
   bool touching_ = false;
   std::function<void(const navigation::Pose&)> on_collision_;
+  std::function<void(const navigation::Pose&, const std::string&)> on_fall_;
   // sonar
   int sweep_mode_ = 1, sweep_from_ = 0, sweep_to_ = 60, sweep_step_ = 15, sweep_dir_ = 1;
   double servo_deg_ = 0;

@@ -290,6 +290,23 @@ World parse_world(const std::string& json_text, const std::filesystem::path& fil
   boxes("furniture", world.map.furniture);
   boxes("clutter", world.clutter);
 
+  // Steps down may span a doorway (cross walls); their centre must be in a room.
+  const json& drops = list(root, "drops", file);
+  for (std::size_t i = 0; i < drops.size(); ++i) {
+    Where w = element(file, "drops", i, drops[i]);
+    Drop d;
+    d.name = text(drops[i], "name", w);
+    d.box.min = point(drops[i], "min", w);
+    d.box.max = point(drops[i], "max", w);
+    d.depth_m = number(drops[i], "depth_m", 0.2, w, 0.05, 3);
+    if (d.box.min.x >= d.box.max.x || d.box.min.y >= d.box.max.y)
+      w.fail("'min' " + fmt(d.box.min) + " must be below and left of 'max' " + fmt(d.box.max));
+    if (!world.map.room_at((d.box.min + d.box.max) * 0.5))
+      w.fail("the step from " + fmt(d.box.min) + " to " + fmt(d.box.max) +
+             " is outside every room");
+    world.drops.push_back(std::move(d));
+  }
+
   const json& places = list(root, "places", file);
   for (std::size_t i = 0; i < places.size(); ++i) {
     Where w = element(file, "places", i, places[i]);
@@ -370,6 +387,9 @@ World parse_world(const std::string& json_text, const std::filesystem::path& fil
     for (const auto& f : *group) {
       if (f.box.contains(start)) rw.fail("'start' " + fmt(start) + " is inside " + f.name);
     }
+  }
+  for (const Drop& d : world.drops) {
+    if (d.box.contains(start)) rw.fail("'start' " + fmt(start) + " is on the step down " + d.name);
   }
   return world;
 }

@@ -42,6 +42,15 @@ struct SmartDevice {
   bool dimmable = false;
 };
 
+// A step down: the floor inside the box is `depth_m` lower (a sunken living room, the step
+// down to a garden). Not on the map: only the downward sonar finds it; a robot whose
+// centre goes over its edge falls.
+struct Drop {
+  std::string name;
+  navigation::Box box;  // box.height unused
+  double depth_m = 0.2;
+};
+
 struct RobotSpec {
   navigation::Pose start;
   double radius_m = 0.15, track_m = 0.25, max_speed_m_s = 0.4, accel_m_s2 = 1.0;
@@ -54,6 +63,7 @@ struct World {
   double wall_height_m = 2.5;
   navigation::FloorMap map;
   std::vector<navigation::Furniture> clutter;  // solid, but not on the map
+  std::vector<Drop> drops;                     // steps down, not on the map
   std::vector<Thing> objects;
   std::vector<Person> people;
   std::vector<SmartDevice> devices;

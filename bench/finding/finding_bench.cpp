@@ -7,7 +7,9 @@
 //      (robot time; Sam is in view from then on)?
 //   3. "go to Anna", "guard the house", 20 s of robot time: any alert (a false alarm)?
 //   4. "guide me to" a random room: arrived, and collisions; every fifth run the bedroom
-//      with its door closed: "I can't guide you ..."?
+//      with its door closed: "I can't guide you ..."?; every fifth run (another) the
+//      kitchen behind a step down across it (a world "drops" entry): "I can't guide you
+//      ...", and never a fall (no drive into a drop) in any run
 // Anna's face is enrolled once, from the default home, into a template store each run
 // copies. Limits: the map's "last known spot" of a person is where the run placed them,
 // so the first room searched is right unless the spot lies in a doorway's reach of
@@ -70,7 +72,7 @@ struct Transcript {
 
 struct Session {
   Transcript said;
-  std::atomic<int> collisions{0};
+  std::atomic<int> collisions{0}, falls{0};
   std::unique_ptr<marvin::app::Host> host;
   std::thread loop;
   Session(const fs::path& world, const fs::path& data, double speed, std::uint64_t seed) {
@@ -82,6 +84,7 @@ struct Session {
     o.time_zone = "UTC";
     host = std::make_unique<marvin::app::Host>(o, [this](std::string_view line) {
       if (line.find("[collision") != std::string_view::npos) ++collisions;
+      if (line.find("[fell") != std::string_view::npos) ++falls;
     });
     host->on_said([this](std::string_view s) { said.add(s); });
     host->load();
@@ -164,7 +167,8 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  int arrived = 0, path_runs = 0, said_cant = 0, no_path_runs = 0, collisions = 0;
+  int arrived = 0, path_runs = 0, said_cant = 0, no_path_runs = 0, collisions = 0, falls = 0;
+  int step_runs = 0, said_cant_step = 0;
   int found_right = 0, found_wrong = 0, not_found = 0, alerted = 0, alert_in_5s = 0,
       false_alarms = 0;
   std::vector<double> find_s, alert_s;
@@ -227,9 +231,26 @@ int main(int argc, char** argv) {
     }
     // 4. Guidance to a random room (every fifth run: the bedroom, its door closed).
     std::string guide_room = w["rooms"][rng() % w["rooms"].size()]["name"].get<std::string>();
-    const bool no_path = run % 5 == 4;
+    const bool no_path = run % 5 == 4, step_down = run % 5 == 2;
     std::string guided;
-    if (no_path) {
+    if (step_down) {
+      // A step down 20 cm deep across the kitchen, 0.6 m past its door: no way in.
+      json stepped = w;
+      stepped["drops"] = json::array(
+          {{{"name", "the kitchen step"}, {"min", {6.6, 0.0}}, {"max", {7.4, 4.0}},
+            {"depth_m", 0.2}}});
+      std::ofstream(dir / "step.json") << stepped.dump(1);
+      Session g(dir / "step.json", dir / "step-data", speed, static_cast<std::uint64_t>(run) + 1);
+      guided = g.ask("guide me to the kitchen", {"We're there", "I can't"});
+      if (guided.find("I can't guide you to the kitchen: there is a step down") !=
+          std::string::npos) {
+        ++said_cant_step;
+      }
+      collisions += g.collisions.load();
+      falls += g.falls.load();
+      ++step_runs;
+      guide_room = "kitchen";
+    } else if (no_path) {
       json closed = w;
       for (auto& d : closed["doors"]) {
         if (d["name"] == "bedroom door") d["open"] = false;
@@ -239,6 +260,7 @@ int main(int argc, char** argv) {
       guided = g.ask("guide me to the bedroom", {"We're there", "I can't"});
       if (guided.find("I can't guide you to the bedroom") != std::string::npos) ++said_cant;
       collisions += g.collisions.load();
+      falls += g.falls.load();
       ++no_path_runs;
     } else {
       const int before = s.collisions.load();
@@ -247,11 +269,13 @@ int main(int argc, char** argv) {
       ++path_runs;
       collisions += s.collisions.load() - before;
     }
+    falls += s.falls.load();
     std::printf("run %2d: Anna in the %-11s -> %-45s | Sam in the %-11s -> %s\n", run,
                 anna.room.c_str(), answer.c_str(), sam.room.c_str(),
                 alert.empty() ? "no alert" : "alert");
     std::printf("        guide to the %s%s -> %s\n", no_path ? "bedroom" : guide_room.c_str(),
-                no_path ? " (door closed)" : "", guided.c_str());
+                no_path ? " (door closed)" : step_down ? " (a step down across it)" : "",
+                guided.c_str());
     std::fflush(stdout);
   }
   fs::remove_all(work);
@@ -266,8 +290,9 @@ int main(int argc, char** argv) {
               alerted, runs, 100.0 * alerted / runs, alert_in_5s, 100.0 * alert_in_5s / runs,
               median(alert_s), false_alarms, runs);
   std::printf("guidance: arrived in %d/%d runs with a path (%.1f %%); \"I can't\" in %d/%d runs "
-              "without one; %d collisions\n",
+              "without one (a closed door) and in %d/%d behind a step down; %d collisions; "
+              "%d falls (drives into a drop)\n",
               arrived, path_runs, path_runs ? 100.0 * arrived / path_runs : 0.0, said_cant,
-              no_path_runs, collisions);
+              no_path_runs, said_cant_step, step_runs, collisions, falls);
   return 0;
 }

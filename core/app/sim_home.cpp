@@ -18,8 +18,17 @@ SimHome::SimHome(const SimHomeOptions& options, std::function<void(std::string_v
     std::snprintf(text, sizeof text, "[collision at (%.2f, %.2f)]", p.x, p.y);
     console(text);
   });
+  runner_->on_fall([console](const navigation::Pose& p, const std::string& step) {
+    char text[160];
+    std::snprintf(text, sizeof text, "[fell down %s at (%.2f, %.2f)]", step.c_str(), p.x, p.y);
+    console(text);
+  });
+  // The simulated sonar also looks down (30 degrees), so a step down is found: the
+  // navigator tells it from the floor (navigation/sonar_sweep.h).
+  runner_->set_sweep(1, -30, 60, 15);
   navigation::NavigatorOptions nav;
   nav.time_scale = runner_->speed();
+  nav.sonar_height_m = runner_->world().robot.sonar_height_m;
   navigator_ = std::make_unique<navigation::Navigator>(
       runner_->floor_map(), *runner_, [r = runner_.get()] { return r->odometry(); },
       [r = runner_.get()] { return r->sim_scan(); }, [r = runner_.get()] { return r->now_ms(); },

@@ -71,6 +71,31 @@ class GoingPlaces {
     (void)name;
     return std::nullopt;
   }
+
+  // --- guiding (API 1.4) ---------------------------------------------------------------
+  // One thing worth telling a person being led, between two control steps:
+  //   "start"     the path is planned: distance_left_m along it
+  //   "turn"      the next turn of the path, `turn` "left"/"right", distance_m ahead
+  //   "obstacle"  the sonar found something distance_m ahead (horizontal), `kind` "wall"
+  //               (echoes from high up too) or "low" (below the knees); `stopped` when the
+  //               robot stopped for it (it then plans around it)
+  //   "step_down" the floor drops distance_m ahead; the robot stopped and avoids it
+  struct GuideEvent {
+    std::string event, turn, kind;
+    double distance_m = 0, distance_left_m = 0, bearing_deg = 0;
+    bool stopped = false;
+  };
+  // Returns false to stop (guide_to then returns kCancelled, the wheels stopped).
+  using GuideFn = std::function<bool(const GuideEvent&)>;
+  // go_to() at `speed_factor` (0.1..1) of the normal driving speed, telling `on_event`
+  // what happens on the way. The default (a robot without a navigator of its own) goes at
+  // its normal speed and tells nothing.
+  virtual GoResult guide_to(std::string_view target, double speed_factor, const GuideFn& on_event,
+                            const WaitFn& wait) {
+    (void)speed_factor;
+    (void)on_event;
+    return go_to(target, wait);
+  }
 };
 
 }  // namespace marvin::navigation

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <cmath>
 
+#include "navigation/sonar_sweep.h"
+
 namespace marvin::navigation {
 namespace {
 
@@ -34,6 +36,16 @@ std::vector<Vec2> stop_short(std::vector<Vec2> path, Vec2 at, double keep_m) {
     return path;
   }
   return path;
+}
+
+// Metres along `path` from `from` through waypoints i.. to the end.
+double length_left(const std::vector<Vec2>& path, std::size_t i, Vec2 from) {
+  double total = 0;
+  for (; i < path.size(); ++i) {
+    total += distance(from, path[i]);
+    from = path[i];
+  }
+  return total;
 }
 
 }  // namespace
@@ -84,8 +96,24 @@ std::optional<std::string> Navigator::where_am_i() {
 }
 
 GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
+  return go(name, wait, 1.0, nullptr);
+}
+
+GoResult Navigator::guide_to(std::string_view name, double speed_factor, const GuideFn& on_event,
+                             const WaitFn& wait) {
+  return go(name, wait, std::clamp(speed_factor, 0.1, 1.0), on_event ? &on_event : nullptr);
+}
+
+bool Navigator::tell(const GuideEvent& event) { return !on_event_ || (*on_event_)(event); }
+
+GoResult Navigator::go(std::string_view name, const WaitFn& wait, double speed_factor,
+                       const GuideFn* on_event) {
   std::lock_guard lock(run_mutex_);
   stop_requested_.store(false);
+  speed_factor_ = speed_factor;
+  on_event_ = on_event;
+  told_obstacle_ms_ = -1000000;
+  told_drops_.clear();
   GoResult result;
   std::optional<Target> target = map_.find(name);
   if (!target) {
@@ -97,6 +125,7 @@ GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
   result.target = target->name;
   grid_.clear_obstacles();
   seen_.clear();
+  drops_.clear();
   const std::int64_t deadline =
       now_ms_() + static_cast<std::int64_t>(options_.give_up_after_s * 1000);
   for (int attempt = 0; attempt <= options_.max_replans; ++attempt) {
@@ -111,6 +140,17 @@ GoResult Navigator::go_to(std::string_view name, const WaitFn& wait) {
     // A person: stop at arm's length, facing them, not on their toes (the camera then
     // sees their whole face).
     if (target->kind == Target::Kind::kPerson) *path = stop_short(*path, target->at, 0.7);
+    if (attempt == 0) {
+      GuideEvent start;
+      start.event = "start";
+      start.distance_left_m = length_left(*path, 1, from);
+      if (!tell(start)) {
+        body_.stop();
+        result.outcome = GoResult::Outcome::kCancelled;
+        result.reason = "stopped";
+        return result;
+      }
+    }
     {
       std::lock_guard plock(path_mutex_);
       path_ = *path;
@@ -245,6 +285,7 @@ bool Navigator::leg_free(Vec2 from, Vec2 to) const {
 std::string Navigator::blocked_reason(const Target& target) {
   const std::string where = with_the(target.name);
   if (!grid_.has_obstacles()) return "I can't find a way to " + where;
+  if (!drops_.empty()) return "there is a step down on the way to " + where;
   // Without what the sonar found there is a way: name the door nearest to the obstacles.
   const Door* nearest = nullptr;
   double best = 1.0;  // metres: farther than this, it is not "the door" that is blocked
@@ -271,9 +312,20 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
   bool driving_forward = false;
   Vec2 progress_at = pose_().position();
   std::int64_t progress_ms = now_ms_();
+  const auto forward_speed =
+      static_cast<std::uint8_t>(std::max(30.0, std::round(options_.forward_speed * speed_factor_)));
   for (std::size_t i = 1; i < path.size(); ++i) {
     const Vec2 wp = path[i];
     const bool last = i + 1 == path.size();
+    // The turn at this waypoint (guiding: told once, when it is announce_m ahead).
+    double turn_deg = 0;
+    if (!last) {
+      const Vec2 in = wp - path[i - 1], out = path[i + 1] - wp;
+      turn_deg = degrees(wrap_angle(std::atan2(out.y, out.x) - std::atan2(in.y, in.x)));
+    }
+    // Only real corners are told: a turn of 35° or more after a leg of 0.8 m or more (the
+    // short legs of a path planned around something would be a stream of turns).
+    bool turn_told = std::fabs(turn_deg) < 35 || distance(path[i - 1], wp) < 0.8;
     while (true) {
       if (stop_requested_.load() || wait(step_ms) || stop_requested_.load()) {
         body_.stop();
@@ -285,6 +337,19 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
       const Vec2 to = wp - pose.position();
       const double dist = length(to);
       if (dist < (last ? options_.goal_m : options_.waypoint_m)) break;
+      if (!turn_told && dist < options_.announce_m) {
+        turn_told = true;
+        GuideEvent e;
+        e.event = "turn";
+        e.turn = turn_deg > 0 ? "left" : "right";
+        e.distance_m = dist;
+        e.bearing_deg = turn_deg;
+        e.distance_left_m = length_left(path, i, pose.position());
+        if (!tell(e)) {
+          body_.stop();
+          return Follow::kCancelled;
+        }
+      }
       // Stuck (a collision the base reported by stopping, or wheels slipping): treat
       // like an obstacle ahead.
       if (distance(pose.position(), progress_at) > 0.05) {
@@ -312,33 +377,83 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
       }
       // What the sonar sees ahead goes on the map (things the plan did not show); something
       // close ahead stops the robot, and a leg the new marks block is planned again.
-      bool marked = false;
+      // Downward readings tell a step down (the floor answers from farther than it should)
+      // from the floor and from something standing on it (sonar_sweep.h).
+      bool marked = false, stopped = false;
+      std::optional<GuideEvent> news;  // the nearest new thing, for guiding
       for (const devices::ScanPoint& p : scan_()) {
-        if (p.time_ms < aimed_since || p.angle_deg > 60 || p.distance_m >= 2.5) continue;
-        const double horizontal = p.distance_m * std::cos(radians(p.angle_deg));
-        const double vertical = p.distance_m * std::sin(radians(p.angle_deg));
-        if (vertical > options_.clearance_m || horizontal > options_.mark_m) continue;
+        if (p.time_ms < aimed_since || p.angle_deg > 60) continue;
+        const Echo echo = classify_echo(p.angle_deg, p.distance_m, options_.sonar_height_m);
+        if (echo.kind == Echo::Kind::kNone || echo.kind == Echo::Kind::kFloor) continue;
+        const bool drop = echo.kind == Echo::Kind::kStepDown;
+        const double horizontal = echo.ahead_m;
+        if (echo.height_m > options_.clearance_m || horizontal > options_.mark_m) continue;
         const Vec2 hit{pose.x + std::cos(pose.heading) * horizontal,
                        pose.y + std::sin(pose.heading) * horizontal};
+        const double stop_m = drop ? options_.step_down_stop_m : options_.stop_m;
+        const bool stop = horizontal < stop_m && horizontal < dist + 0.15;
+        bool new_mark = false;
         if (!grid_.occupied(grid_.cell_of(hit))) {
           grid_.add_obstacle(hit, options_.mark_radius_m);
           seen_.push_back(hit);
-          marked = true;
+          if (drop) {
+            // The edge of a step runs across: mark it to either side too, so the robot
+            // does not go around the one spot it saw (and in sideways, where a wall hides
+            // the floor from the sonar).
+            drops_.push_back(hit);
+            const Vec2 across{-std::sin(pose.heading), std::cos(pose.heading)};
+            for (int k = -6; k <= 6; ++k) {
+              grid_.add_obstacle(hit + across * (options_.step_down_side_m * k / 6.0),
+                                 options_.mark_radius_m);
+            }
+          }
+          marked = new_mark = true;
         }
-        if (horizontal < options_.stop_m && horizontal < dist + 0.15) {
+        // Told: what is new within announce_m, not a wall or furniture of the map (an echo
+        // from it can land a cell short of it), nor a step down already told within 1 m.
+        const bool on_map = grid_.near_static(hit, 0.15);
+        const bool told_before =
+            drop && std::any_of(told_drops_.begin(), told_drops_.end(),
+                                [&](Vec2 d) { return distance(d, hit) < 1.0; });
+        if ((new_mark || stop) && !on_map && !told_before && horizontal < options_.announce_m &&
+            (!news || horizontal < news->distance_m)) {
+          news.emplace();
+          news->event = drop ? "step_down" : "obstacle";
+          news->kind = drop ? "step" : echo.height_m > 0.35 ? "wall" : "low";
+          news->distance_m = horizontal;
+        }
+        if (stop) {
+          stopped = true;
           body_.stop();
-          if (!marked) {
+          if (!new_mark) {
             seen_.push_back(hit);
+            if (drop) drops_.push_back(hit);
             grid_.add_obstacle(hit, options_.mark_radius_m);
           }
-          return Follow::kBlocked;
+          break;
         }
       }
+      // Told sparingly: a step down always, other things at most every 3 s of robot time
+      // (and always when the robot stops for one).
+      if (news) news->stopped = stopped;
+      if (news && news->event == "step_down") {
+        told_drops_.push_back({pose.x + std::cos(pose.heading) * news->distance_m,
+                               pose.y + std::sin(pose.heading) * news->distance_m});
+      }
+      if (news && (news->event == "step_down" || news->stopped || now - told_obstacle_ms_ > 3000)) {
+        told_obstacle_ms_ = now;
+        news->distance_left_m = length_left(path, i, pose.position());
+        if (!tell(*news)) {
+          body_.stop();
+          return Follow::kCancelled;
+        }
+      }
+      if (stopped) return Follow::kBlocked;
       if (marked && !leg_free(pose.position(), wp)) {
         body_.stop();
         return Follow::kBlocked;
       }
-      body_.move(devices::Direction::kForward, options_.forward_speed, move_ms);
+      body_.move(devices::Direction::kForward, forward_speed, move_ms);
     }
   }
   return Follow::kArrived;

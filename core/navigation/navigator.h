@@ -40,8 +40,12 @@ struct NavigatorOptions {
   double mark_radius_m = 0.10;  // each as a disc this wide (then inflated)
   std::chrono::milliseconds step{100};
   int max_replans = 8;
-  double give_up_after_s = 120;  // robot time for one go_to
-  double time_scale = 1;         // robot seconds per wall second (GoingPlaces::time_scale)
+  double give_up_after_s = 120;   // robot time for one go_to
+  double sonar_height_m = 0.25;   // above the floor: what a downward echo is compared with
+  double step_down_stop_m = 0.5;  // a step down closer than this (horizontal) stops the robot
+  double step_down_side_m = 1.0;  // a step down is marked this far to either side (an edge)
+  double announce_m = 1.0;        // guide_to tells turns and obstacles this far ahead
+  double time_scale = 1;          // robot seconds per wall second (GoingPlaces::time_scale)
 };
 
 class Navigator : public GoingPlaces {
@@ -55,6 +59,8 @@ class Navigator : public GoingPlaces {
             NavigatorOptions options = {});
 
   GoResult go_to(std::string_view target, const WaitFn& wait) override;
+  GoResult guide_to(std::string_view target, double speed_factor, const GuideFn& on_event,
+                    const WaitFn& wait) override;
   void stop() override;
   std::optional<std::string> where_am_i() override;
   double time_scale() const override { return options_.time_scale; }
@@ -75,6 +81,10 @@ class Navigator : public GoingPlaces {
 
  private:
   enum class Follow { kArrived, kBlocked, kCancelled, kTimeOut };
+  GoResult go(std::string_view target, const WaitFn& wait, double speed_factor,
+              const GuideFn* on_event);
+  // Tells on_event_ (when guiding); false when it asked to stop.
+  bool tell(const GuideEvent& event);
   Follow follow(const std::vector<Vec2>& path, const WaitFn& wait, std::int64_t deadline_ms);
   std::string blocked_reason(const Target& target);
   bool leg_free(Vec2 from, Vec2 to) const;
@@ -92,7 +102,13 @@ class Navigator : public GoingPlaces {
   std::mutex run_mutex_;  // one go_to at a time
   mutable std::mutex path_mutex_;
   std::vector<Vec2> path_;
-  std::vector<Vec2> seen_;  // where the sonar found something during this go_to
+  std::vector<Vec2> seen_;   // where the sonar found something during this go_to
+  std::vector<Vec2> drops_;  // where it found a step down (also in seen_)
+  // While guiding (set by go() under run_mutex_): the speed and who is told what.
+  double speed_factor_ = 1;
+  const GuideFn* on_event_ = nullptr;
+  std::int64_t told_obstacle_ms_ = 0;
+  std::vector<Vec2> told_drops_;  // steps down told during this trip
   std::atomic<bool> stop_requested_{false};
 };
 

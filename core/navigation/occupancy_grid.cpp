@@ -70,6 +70,19 @@ void OccupancyGrid::add_obstacle(Vec2 at, double radius_m) {
   }
 }
 
+bool OccupancyGrid::near_static(Vec2 at, double radius_m) const {
+  const int r = static_cast<int>(std::ceil(radius_m / cell_m_));
+  const Cell c = cell_of(at);
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      const Cell n{c.x + dx, c.y + dy};
+      if (std::hypot(dx, dy) * cell_m_ > radius_m) continue;
+      if (!inside(n) || static_raw_[index(n)] != 0) return true;
+    }
+  }
+  return false;
+}
+
 void OccupancyGrid::clear_obstacles() {
   added_.clear();
   raw_ = static_raw_;

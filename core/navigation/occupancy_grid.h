@@ -35,6 +35,9 @@ class OccupancyGrid {
   // Forgets every added obstacle.
   void clear_obstacles();
   bool has_obstacles() const { return !added_.empty(); }
+  // Whether a wall or furniture of the floor plan (not an added obstacle) lies within
+  // `radius_m` of `at`.
+  bool near_static(Vec2 at, double radius_m) const;
 
  private:
   std::size_t index(Cell c) const {

@@ -905,6 +905,7 @@ const marvin_robot_api* host_robot_api() {
     a.phone_state = api_phone_state;
     a.phone_wait_event = api_phone_wait_event;
     a.phone_call_for_help = api_phone_call_for_help;
+    add_guiding_api(a);
     keep_answers_of_acting_calls(a);
     return a;
   }();

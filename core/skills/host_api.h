@@ -129,6 +129,8 @@ marvin_status write_text(marvin_text_out* out, std::string_view text);
 
 // Adds the API 1.3 finding-and-guarding functions to `api` (core/skills/finding_api.cpp).
 void add_finding_api(marvin_robot_api& api);
+// Adds the API 1.4 guiding function (guide_to) to `api` (core/skills/guiding_api.cpp).
+void add_guiding_api(marvin_robot_api& api);
 // Records the known faces and objects of a vision_look answer as sightings (where the map
 // puts them) and returns them as look_around's "seen" entries; `bearing_offset_deg` is the
 // robot's turn since the look began. Never throws: a failing log only loses the sighting.

@@ -205,6 +205,35 @@ navigation::GoResult MockRobot::Impl::go_to(std::string_view target,
   r.reason = "I don't know where " + std::string(target) + " is";
   return r;
 }
+navigation::GoResult MockRobot::Impl::guide_to(std::string_view target, double speed_factor,
+                                               const GuideFn& on_event,
+                                               const navigation::WaitFn& wait) {
+  const std::string action = "guide_to " + std::string(target) + " speed=" +
+                             std::to_string(static_cast<int>(std::lround(speed_factor * 100)));
+  std::vector<GuideEvent> told = std::move(guide_events);
+  std::vector<bool> stops = std::move(guide_stops);
+  guide_events.clear();
+  guide_stops.clear();
+  bool known = false;
+  for (const auto& [name, in_room] : places) known = known || place_key(name) == place_key(target);
+  for (std::size_t i = 0; known && i < told.size(); ++i) {
+    const bool go_on = !on_event || on_event(told[i]);
+    // stops[i]: "stop" was heard while the robot told this (the navigator's next wait()
+    // reports it and the trip ends).
+    if (!go_on || stops[i] || wait(std::chrono::milliseconds(0))) {
+      actions.push_back(action);
+      actions.push_back("stop");
+      navigation::GoResult r;
+      r.target = std::string(target);
+      r.outcome = navigation::GoResult::Outcome::kCancelled;
+      return r;
+    }
+  }
+  navigation::GoResult r = go_to(target, wait);  // records "go_to <target>"
+  actions.back() = action;
+  return r;
+}
+
 std::optional<std::string> MockRobot::Impl::where_am_i() {
   if (room.empty()) return std::nullopt;
   return room;
@@ -360,6 +389,18 @@ void MockRobot::set_scan(std::vector<marvin_scan_point> points) { impl_->scan = 
 void MockRobot::cancel() { impl_->context->cancel(); }
 void MockRobot::add_place(std::string name, std::string room) {
   impl_->places.emplace_back(std::move(name), std::move(room));
+}
+void MockRobot::add_guide_event(const std::string& event_json) {
+  const nlohmann::json j = nlohmann::json::parse(event_json);
+  navigation::GoingPlaces::GuideEvent e;
+  e.event = j.at("event").get<std::string>();
+  e.turn = j.value("turn", "");
+  e.kind = j.value("kind", "");
+  e.distance_m = j.value("distance_m", 0.0);
+  e.distance_left_m = j.value("distance_left_m", 0.0);
+  e.stopped = j.value("stopped", false);
+  impl_->guide_events.push_back(std::move(e));
+  impl_->guide_stops.push_back(j.value("then_stop", false));
 }
 void MockRobot::block_place(std::string name, std::string reason) {
   impl_->blocked.emplace_back(std::move(name), std::move(reason));

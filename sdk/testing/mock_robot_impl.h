@@ -65,6 +65,8 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
 
   // navigation::GoingPlaces: scripted (add_place, block_place, set_room)
   navigation::GoResult go_to(std::string_view target, const navigation::WaitFn& wait) override;
+  navigation::GoResult guide_to(std::string_view target, double speed_factor,
+                                const GuideFn& on_event, const navigation::WaitFn& wait) override;
   std::optional<std::string> where_am_i() override;
   bool turn(double degrees, const navigation::WaitFn& wait) override;
   std::optional<Spot> locate(double bearing_deg, double distance_m) override;
@@ -87,6 +89,8 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   std::optional<std::int64_t> last_fired;
   std::vector<std::pair<std::string, std::string>> places;   // name, room
   std::vector<std::pair<std::string, std::string>> blocked;  // name, reason
+  std::vector<GuideEvent> guide_events;                      // told on the next guide_to
+  std::vector<bool> guide_stops;  // per guide event: the user says "stop" as it is told
   std::string room = "hall";
   FakeHome home;
   std::map<std::string, std::string> room_views;  // room -> vision_look JSON

@@ -144,6 +144,23 @@ struct FakeRobot {
         r.room = place;
         return MARVIN_OK;
       };
+      // Guiding (API 1.4): two events on the way (a step down, then an obstacle), then
+      // there, unless on_event stops it.
+      t.guide_to = [](marvin_host* h, const char* place, uint32_t speed,
+                      marvin_guide_event_fn on_event, void* user) {
+        FakeRobot& r = of(h);
+        if (marvin_status s = r.deny_unless("motion"); s != MARVIN_OK) return s;
+        r.actions.push_back(std::string("guide_to ") + place + " speed=" + std::to_string(speed));
+        for (const char* e : {R"({"event":"step_down","distance_m":0.43,"kind":"step"})",
+                              R"({"event":"obstacle","distance_m":1.0,"kind":"low"})"}) {
+          if (on_event && on_event(user, e) != 0) {
+            r.last_error = "the skill stopped the trip";
+            return MARVIN_ERR_CANCELLED;
+          }
+        }
+        r.room = place;
+        return MARVIN_OK;
+      };
       t.where_am_i = [](marvin_host* h, marvin_text_out* out) {
         FakeRobot& r = of(h);
         if (marvin_status s = r.deny_unless("sensors"); s != MARVIN_OK) return s;

@@ -268,6 +268,35 @@ end)
   CHECK(denied.robot.actions.empty());
 }
 
+TEST_CASE("guiding: guide_to calls on_event with each event's table; false stops the trip") {
+  Loaded s("guide", R"(
+marvin.on("go", function(slots)
+  local ok = marvin.guide_to(slots.place, 40, function(e)
+    marvin.say(e.event .. " " .. e.distance_m .. (e.kind and (" " .. e.kind) or ""))
+    return e.event ~= "obstacle" or slots.place ~= "garden"
+  end)
+  marvin.say(ok and "there" or "not there")
+end)
+marvin.on("bad", function() marvin.guide_to("kitchen", 40, function(e) error("boom") end) end)
+)",
+           {"go", "bad"}, {"motion"});
+  CHECK(s.handle("go", R"({"place":"kitchen"})") == MARVIN_OK);
+  CHECK(s.robot.said ==
+        std::vector<std::string>{"step_down 0.43 step", "obstacle 1.0 low", "there"});
+  s.robot.said.clear();
+  std::string error;
+  // on_event returned false at the obstacle: the trip ends as "stop" ends it.
+  CHECK(s.handle("go", R"({"place":"garden"})", &error) == MARVIN_ERR_CANCELLED);
+  CHECK(s.robot.said == std::vector<std::string>{"step_down 0.43 step", "obstacle 1.0 low"});
+  CHECK(s.robot.room == "kitchen");
+  // An error in on_event stops the trip and is the skill's error, in its line.
+  CHECK(s.handle("bad", "{}", &error) != MARVIN_OK);
+  CHECK(contains(error, "main.lua:9: boom"));
+  CHECK(s.robot.actions == std::vector<std::string>{"guide_to kitchen speed=40",
+                                                    "guide_to garden speed=40",
+                                                    "guide_to kitchen speed=40"});
+}
+
 TEST_CASE("a call without permission fails in the skill's line and does nothing") {
   Loaded s("sneaky", R"(
 marvin.on("drive", function()

@@ -110,7 +110,8 @@ TEST_CASE("run --sim: guide me to the kitchen arrives without a collision; the s
                        (dir.path() / "skills").string(), "--speed", "20"});
   marvin.wait_for_line("Marvin: Hello, I'm Marvin.");
   marvin.send_line("guide me to the kitchen");
-  marvin.wait_for_line("Marvin: Follow me to the kitchen. I'll stop if something is in the way.");
+  marvin.wait_for_line(
+      "Marvin: Follow me to the kitchen. I'll go slowly and tell you what's ahead.");
   marvin.wait_for_line("Marvin: We're there: the kitchen.");
   marvin.send_line("guide me to the garage");
   marvin.wait_for_line("Marvin: I don't know where the garage is.");
@@ -173,7 +174,8 @@ TEST_CASE("run --sim: marvin guard off from the command line ends guard mode") {
   CHECK(cli("status").rfind("guard mode: on since ", 0) == 0);
   CHECK(cli("off") == "guard mode: off (a running Marvin stops watching before its next look)\n");
   marvin.wait_for_line("Marvin: Guard mode is off: it was turned off from the command line.");
-  CHECK(cli("status") == "guard mode: off (turned off by the command line), 0 alerts in the last "
-                         "watch\n");
+  CHECK(cli("status") ==
+        "guard mode: off (turned off by the command line), 0 alerts in the last "
+        "watch\n");
   CHECK(exit_code(marvin.finish()) == 0);
 }

@@ -115,3 +115,59 @@ TEST_CASE("run --sim: after \"go to Anna\" the robot faces her, so \"who is this
   CHECK(exit_code(marvin.finish()) == 0);
   CHECK(marvin.output().find("the anna") == std::string::npos);
 }
+
+TEST_CASE("run --sim: guiding to the bathroom tells the way and arrives; \"stop\" stops it") {
+  marvin::test_support::TempDir dir;
+  ChildProcess marvin = start_marvin(dir.path(), {});
+  marvin.wait_for_line("Marvin: Hello, I'm Marvin.");
+  marvin.send_line("guide me to the bathroom");  // up the hall, then left through its door
+  marvin.wait_for_line(
+      "Marvin: Follow me to the bathroom. I'll go slowly and tell you what's ahead.");
+  CHECK(marvin.wait_for_line_containing("Marvin: It's about ").find(" metres.") !=
+        std::string::npos);
+  CHECK(marvin.wait_for_line_containing(", we turn ").find("Marvin: In ") == 0);
+  marvin.wait_for_line("Marvin: We're there: the bathroom.");
+  marvin.send_line("guide me to the bedroom");
+  marvin.wait_for_line(
+      "Marvin: Follow me to the bedroom. I'll go slowly and tell you what's ahead.");
+  marvin.send_line("stop");
+  marvin.wait_for_line("Marvin: OK, I stopped.");
+  marvin.send_line("where are you");
+  CHECK(marvin.wait_for_line_containing("Marvin: I'm in") != "Marvin: I'm in the bedroom.");
+  CHECK(exit_code(marvin.finish()) == 0);
+  CHECK(marvin.output().find("[collision") == std::string::npos);
+  CHECK(marvin.output().find("We're there: the bedroom.") == std::string::npos);
+}
+
+TEST_CASE("run --sim: a step down across the garden is told, stopped short of, never driven into") {
+  marvin::test_support::TempDir dir;
+  const fs::path world = dir.path() / "garden.json";
+  // The hall and the garden; a step down 20 cm deep across the whole garden, 0.6 m past its
+  // door, and a gate before it.
+  std::ofstream(world) << R"({"format": "marvin-world", "version": 1,
+    "rooms": [{"name": "hall", "outline": [[0,0],[4,0],[4,3],[0,3]]},
+              {"name": "garden", "outline": [[4,0],[9,0],[9,3],[4,3]], "spot": [7.5, 1.5]}],
+    "doors": [{"name": "garden door", "at": [4, 1.5], "width_m": 0.9,
+               "rooms": ["hall", "garden"]}],
+    "places": [{"name": "the gate", "at": [4.3, 2.6], "room": "garden"}],
+    "drops": [{"name": "the garden step", "min": [4.6, 0], "max": [5.6, 3], "depth_m": 0.2}],
+    "robot": {"start": [1, 1.5], "heading_deg": 0}})";
+  ChildProcess marvin = start_marvin(dir.path(), {"--world", world.string()});
+  marvin.wait_for_line("Marvin: Hello, I'm Marvin.");
+  marvin.send_line("guide me to the garden");
+  CHECK(
+      marvin.wait_for_line_containing("Marvin: Careful: step down ahead, ").find("I've stopped.") !=
+      std::string::npos);
+  marvin.wait_for_line(
+      "Marvin: I can't guide you to the garden: there is a step down on the way to the "
+      "garden.");
+  marvin.send_line("go to the garden");
+  marvin.wait_for_line(
+      "Marvin: Sorry, I can't get to the garden: there is a step down on the way to the "
+      "garden.");
+  marvin.send_line("guide me to the gate");
+  marvin.wait_for_line("Marvin: We're there: the gate.");
+  CHECK(exit_code(marvin.finish()) == 0);
+  CHECK(marvin.output().find("[fell") == std::string::npos);
+  CHECK(marvin.output().find("[collision") == std::string::npos);
+}

@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define MARVIN_ABI_MAJOR 1
-#define MARVIN_ABI_MINOR 3
+#define MARVIN_ABI_MINOR 4
 
 #if defined(__GNUC__)
 #define MARVIN_EXPORT __attribute__((visibility("default")))

@@ -9,7 +9,7 @@
  * Permissions (declared in skill.json, approved by the owner at install):
  *   "speech"    say, ask               (every skill has it implicitly)
  *   "light"     set_light
- *   "motion"    move, stop, tilt_head, go_to, go_stop (API 1.2)
+ *   "motion"    move, stop, tilt_head, go_to, go_stop (API 1.2), guide_to (API 1.4)
  *   "sensors"   obstacle_scan, where_am_i (API 1.2)
  *   "schedule"  schedule_* (schedule_snooze, schedule_done, schedule_last_fired: API 1.1)
  *   "contacts"  contacts_*, people_list
@@ -65,8 +65,25 @@ typedef enum marvin_log_level {
   MARVIN_LOG_ERROR = 3
 } marvin_log_level;
 
+/* Since API 1.4 (guide_to): called on the skill's own thread, between two of the robot's
+ * control steps, with one thing worth telling the person being guided, as JSON:
+ *   {"event": "start" | "turn" | "obstacle" | "step_down",
+ *    "distance_left_m": 6.2 (along the path, every event),
+ *    "turn": "left" | "right" ("turn": the next turn of the path, "distance_m" ahead),
+ *    "distance_m": 0.9 (horizontal, from the robot),
+ *    "kind": "wall" (echoes from high up too) | "low" (below the knees) | "step",
+ *    "stopped": true when the robot stopped for it ("obstacle"; always for "step_down")}
+ * "start" comes once the path is planned; "turn" once per turn, about a metre before it;
+ * "obstacle" for something the sonar found within a metre (at most every 3 s unless the
+ * robot stops for it); "step_down" for a drop in the floor ahead (the robot stopped and
+ * will not drive into it). The sonar looks straight ahead, so an obstacle is "ahead";
+ * vision_look may be called here to name it. Return 0 to go on, anything else to stop:
+ * guide_to then stops the wheels and returns MARVIN_ERR_CANCELLED. The robot waits while
+ * the callback runs (it is safe: each drive command lasts 300 ms), so return quickly. */
+typedef int (*marvin_guide_event_fn)(void* user, const char* event_json);
+
 #define MARVIN_ROBOT_API_MAJOR 1
-#define MARVIN_ROBOT_API_MINOR 3
+#define MARVIN_ROBOT_API_MINOR 4
 
 typedef struct marvin_robot_api {
   uint32_t struct_size; /* sizeof(marvin_robot_api) as the host compiled it */
@@ -319,6 +336,19 @@ typedef struct marvin_robot_api {
    * once the sequence started; its steps come from phone_wait_event. MARVIN_ERR_NOT_FOUND
    * when there is no emergency contact with a number. */
   marvin_status (*phone_call_for_help)(marvin_host* host);
+
+  /* --- since API 1.4: guiding ------------------------------------------------------
+   * Check struct_size (or minor) before calling this on an older host. */
+  /* go_to for leading a person: drives to `place` (as go_to takes it) at `speed_percent`
+   * (10..100; 0 means 50, a slow walk) of the robot's normal driving speed, stops for
+   * obstacles and steps down and plans around them, and calls `on_event` (may be NULL)
+   * with `user` for each thing worth telling on the way (marvin_guide_event_fn above).
+   * Returns as go_to does: MARVIN_OK once there; MARVIN_ERR_NOT_FOUND for a place the map
+   * does not know; MARVIN_ERR_UNAVAILABLE when no way is left (last_error says why: "there
+   * is a step down on the way to the garden"); MARVIN_ERR_CANCELLED on "stop" or when
+   * on_event asked to stop; MARVIN_ERR_INVALID for a speed above 100. Permission "motion". */
+  marvin_status (*guide_to)(marvin_host* host, const char* place, uint32_t speed_percent,
+                            marvin_guide_event_fn on_event, void* user);
 } marvin_robot_api;
 
 #ifdef __cplusplus

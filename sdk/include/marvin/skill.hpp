@@ -32,6 +32,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <exception>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -158,6 +160,30 @@ class Robot {
     check(fn(&marvin_robot_api::go_to, "go_to")(host_, str(place).c_str()));
   }
   void go_stop() { check(fn(&marvin_robot_api::go_stop, "go_stop")(host_)); }
+  // Guiding (API 1.4): go_to at `speed_percent` of the normal speed (0: 50), calling
+  // `on_event` with each thing worth telling on the way (its JSON: marvin/robot.h,
+  // marvin_guide_event_fn); on_event returns false to stop the trip (then this throws
+  // Error(CANCELLED)). An exception from on_event stops the trip and is rethrown here.
+  void guide_to(std::string_view place, std::uint32_t speed_percent,
+                const std::function<bool(const nlohmann::json&)>& on_event) {
+    struct Guided {
+      const std::function<bool(const nlohmann::json&)>* on_event;
+      std::exception_ptr error;
+    } guided{&on_event, nullptr};
+    marvin_guide_event_fn tell = [](void* user, const char* event_json) -> int {
+      auto* g = static_cast<Guided*>(user);
+      try {
+        return (*g->on_event)(nlohmann::json::parse(event_json)) ? 0 : 1;
+      } catch (...) {
+        g->error = std::current_exception();
+        return 1;
+      }
+    };
+    const marvin_status status = fn(&marvin_robot_api::guide_to, "guide_to")(
+        host_, str(place).c_str(), speed_percent, on_event ? tell : nullptr, &guided);
+    if (guided.error) std::rethrow_exception(guided.error);
+    check(status);
+  }
   // The room the robot is in, or nullopt between rooms.
   std::optional<std::string> where_am_i() {
     auto call = fn(&marvin_robot_api::where_am_i, "where_am_i");

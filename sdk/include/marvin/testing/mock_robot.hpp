@@ -58,6 +58,12 @@ class MockRobot {
   // actions() records "go_to <place>" and "stop".
   void add_place(std::string name, std::string room);
   void block_place(std::string name, std::string reason);
+  // Guiding (API 1.4): the next guide_to to a known place tells these events, in order,
+  // before it arrives (JSON as marvin_guide_event_fn gets it: {"event": "obstacle",
+  // "distance_m": 1, "kind": "low", "stopped": true}); the skill's on_event may stop it.
+  // "then_stop": true: the user says "stop" as that event is told (the trip ends there).
+  // actions() records "guide_to <place> speed=<percent>".
+  void add_guide_event(const std::string& event_json);
   // The room the robot is in: where_am_i() answers it ("": between rooms) and the smart
   // home resolves "the light" in it. Starts as "hall".
   void set_room(std::string room);
