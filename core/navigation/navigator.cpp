@@ -212,6 +212,42 @@ std::optional<GoingPlaces::PlaceInfo> Navigator::find_place(std::string_view nam
   return PlaceInfo{t->name, kKinds[static_cast<int>(t->kind)], t->room};
 }
 
+// At a screen: the bearing within the box's extent as the robot sees it (corners, 3 degrees
+// more each side for the pose's error), and the distance within the box's nearest and
+// farthest points, with room for the error of a distance told from a face's size (a face on
+// a screen is rarely life-size: half to 1.5 times). A person standing beside the TV is at
+// another bearing; one standing between the robot and the TV is closer than half its distance
+// (or hides it); one right in front of it is taken for the picture (sim/README.md).
+std::optional<std::string> Navigator::screen_at(double bearing_deg, double distance_m) {
+  const Pose pose = pose_();
+  for (const Furniture& f : map_.furniture) {
+    if (!f.screen) continue;
+    // Angles relative to the box's centre as the robot sees it: no wrap-around at +-pi.
+    const Vec2 mid = (f.box.min + f.box.max) * 0.5 - pose.position();
+    const double centre = std::atan2(mid.y, mid.x);
+    const double seen = std::remainder(pose.heading + radians(bearing_deg) - centre, 2 * kPi);
+    const Vec2 corners[] = {
+        f.box.min, {f.box.max.x, f.box.min.y}, f.box.max, {f.box.min.x, f.box.max.y}};
+    double lo = 1e9, hi = -1e9, far = 0;
+    for (Vec2 c : corners) {
+      const Vec2 d = c - pose.position();
+      const double a = std::remainder(std::atan2(d.y, d.x) - centre, 2 * kPi);
+      lo = std::min(lo, a);
+      hi = std::max(hi, a);
+      far = std::max(far, std::hypot(d.x, d.y));
+    }
+    const Vec2 nearest{std::clamp(pose.x, f.box.min.x, f.box.max.x),
+                       std::clamp(pose.y, f.box.min.y, f.box.max.y)};
+    const double near = distance(nearest, pose.position());
+    const double margin = radians(3);
+    if (seen >= lo - margin && seen <= hi + margin && distance_m >= 0.5 * near &&
+        distance_m <= 1.5 * far) {
+      return normalise_name(f.name);
+    }
+  }
+  return std::nullopt;
+}
+
 std::vector<std::string> Navigator::rooms_to_search() {
   std::vector<const Room*> left;
   for (const Room& r : map_.rooms) left.push_back(&r);
