@@ -181,7 +181,24 @@ bool Navigator::turn_to(double heading, const WaitFn& wait) {
 std::optional<GoingPlaces::Spot> Navigator::locate(double bearing_deg, double distance_m) {
   const Pose pose = pose_();
   const double a = pose.heading + radians(bearing_deg);
-  const Vec2 at{pose.x + std::cos(a) * distance_m, pose.y + std::sin(a) * distance_m};
+  const Vec2 dir{std::cos(a), std::sin(a)};
+  // The camera does not see through walls: an estimate behind the first wall along the
+  // bearing (a box cut by the frame's edge looks smaller, so farther) is pulled back to
+  // 10 cm in front of it.
+  auto behind_wall = [&](double t) {
+    const Vec2 p = pose.position() + dir * t;
+    for (const Segment& w : map_.walls) {
+      if (segments_intersect(pose.position(), p, w.a, w.b)) return true;
+    }
+    return false;
+  };
+  double reach = distance_m;
+  if (behind_wall(reach)) {
+    double lo = 0, hi = reach;
+    for (int i = 0; i < 20; ++i) (behind_wall((lo + hi) / 2) ? hi : lo) = (lo + hi) / 2;
+    reach = std::max(0.0, lo - 0.1);
+  }
+  const Vec2 at = pose.position() + dir * reach;
   Spot spot;
   // The thing's room; when the estimate falls outside every room (behind a wall, a bad
   // distance), the robot's own room.
