@@ -266,6 +266,9 @@ World parse_world(const std::string& json_text, const std::filesystem::path& fil
       f.box.height = number(items[i], "height_m", 0.5, w, 0.01, 10);
       if (f.box.min.x >= f.box.max.x || f.box.min.y >= f.box.max.y)
         w.fail("'min' " + fmt(f.box.min) + " must be below and left of 'max' " + fmt(f.box.max));
+      if (items[i].contains("screen") && !items[i]["screen"].is_boolean())
+        w.fail("'screen' must be true or false");
+      f.screen = items[i].value("screen", false);
       std::string room = room_field(items[i], "room", world.map, w, false);
       for (const auto& s : walls) {
         navigation::Segment sides[4];

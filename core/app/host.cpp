@@ -1,4 +1,5 @@
 #include "app/host.h"
+#include "app/guard_schedule.h"
 #include "app/sim_home.h"
 #include "app/store_sightings.h"
 
@@ -324,6 +325,11 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
 
 Host::~Host() {
   watcher_.reset();    // no reload requests from now on
+  if (reminders_) {    // the scheduler's thread switches guard_ (a guard schedule): stop it
+    reminders_->work.reset();
+    reminders_->io.stop();
+    if (reminders_->thread.joinable()) reminders_->thread.join();
+  }
   guard_.reset();      // its thread looks through eyes_ and speaks through loop_
   manager_.reset();    // joins a running task first
   phone_.reset();      // announces through the loop, logs to the data
@@ -405,6 +411,11 @@ void Host::start_scheduler() {
       clock_ ? *clock_ : static_cast<const data::Clock&>(data::SystemClock::instance());
   reminders_->scheduler = std::make_unique<data::Scheduler>(
       reminders_->io, *store_, clock, [this](const data::Firing& firing) {
+        // A guard schedule's reminder switches guard mode instead (guard_schedule.h).
+        if (auto said = apply_guard_firing(firing.reminder, guard_.get())) {
+          if (!said->empty()) loop_->say(*said);
+          return;
+        }
         reminders_->last_fired.store(firing.reminder.id);
         publish_event(firing.missed ? "reminder_missed" : "reminder_fired", firing.reminder.title);
         loop_->say(firing.missed ? "You missed a reminder: " + firing.reminder.title
@@ -416,10 +427,11 @@ void Host::start_scheduler() {
   if (!report.listed.empty()) {
     std::string titles;
     for (const data::MissedReminder& m : report.listed) {
+      if (guard_switch(m.reminder)) continue;  // a guard schedule's: nothing to tell
       titles += (titles.empty() ? "" : ", ") + m.reminder.title;
+      reminders_->last_fired.store(m.reminder.id);
     }
-    reminders_->last_fired.store(report.listed.back().reminder.id);
-    loop_->say("While I was off, you missed: " + titles);
+    if (!titles.empty()) loop_->say("While I was off, you missed: " + titles);
   }
   reminders_->work.emplace(reminders_->io.get_executor());
   reminders_->running.store(true);

@@ -36,6 +36,8 @@ struct Place {
 struct Furniture {
   std::string name;
   Box box;
+  // A TV or monitor stands here: a face seen at it is a picture, not a visitor (guard mode).
+  bool screen = false;
 };
 
 // What a name the user said refers to.

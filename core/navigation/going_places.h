@@ -62,6 +62,14 @@ class GoingPlaces {
   // Every room, in the order a search visits them from where the robot is: the room it is
   // in first, then the nearest of the rest each time (by straight line between spots).
   virtual std::vector<std::string> rooms_to_search() { return {}; }
+  // The screen (a TV: furniture the map marks "screen") something seen `bearing_deg` off the
+  // heading about `distance_m` away is at, by its name; nullopt when at none (or no map).
+  // Guard mode takes a face there for a picture. Additive in session 9: no API change.
+  virtual std::optional<std::string> screen_at(double bearing_deg, double distance_m) {
+    (void)bearing_deg;
+    (void)distance_m;
+    return std::nullopt;
+  }
   // What a name the user said is on the map: {"Anna", "person", "living room"},
   // {"the sofa", "place", "living room"}, {"kitchen", "room", "kitchen"}; nullopt if unknown.
   struct PlaceInfo {

@@ -221,7 +221,24 @@ bool Navigator::turn_to(double heading, const WaitFn& wait) {
 std::optional<GoingPlaces::Spot> Navigator::locate(double bearing_deg, double distance_m) {
   const Pose pose = pose_();
   const double a = pose.heading + radians(bearing_deg);
-  const Vec2 at{pose.x + std::cos(a) * distance_m, pose.y + std::sin(a) * distance_m};
+  const Vec2 dir{std::cos(a), std::sin(a)};
+  // The camera does not see through walls: an estimate behind the first wall along the
+  // bearing (a box cut by the frame's edge looks smaller, so farther) is pulled back to
+  // 10 cm in front of it.
+  auto behind_wall = [&](double t) {
+    const Vec2 p = pose.position() + dir * t;
+    for (const Segment& w : map_.walls) {
+      if (segments_intersect(pose.position(), p, w.a, w.b)) return true;
+    }
+    return false;
+  };
+  double reach = distance_m;
+  if (behind_wall(reach)) {
+    double lo = 0, hi = reach;
+    for (int i = 0; i < 20; ++i) (behind_wall((lo + hi) / 2) ? hi : lo) = (lo + hi) / 2;
+    reach = std::max(0.0, lo - 0.1);
+  }
+  const Vec2 at = pose.position() + dir * reach;
   Spot spot;
   // The thing's room; when the estimate falls outside every room (behind a wall, a bad
   // distance), the robot's own room.
@@ -250,6 +267,42 @@ std::optional<GoingPlaces::PlaceInfo> Navigator::find_place(std::string_view nam
   if (!t) return std::nullopt;
   static const char* kKinds[] = {"room", "place", "person"};
   return PlaceInfo{t->name, kKinds[static_cast<int>(t->kind)], t->room};
+}
+
+// At a screen: the bearing within the box's extent as the robot sees it (corners, 3 degrees
+// more each side for the pose's error), and the distance within the box's nearest and
+// farthest points, with room for the error of a distance told from a face's size (a face on
+// a screen is rarely life-size: half to 1.5 times). A person standing beside the TV is at
+// another bearing; one standing between the robot and the TV is closer than half its distance
+// (or hides it); one right in front of it is taken for the picture (sim/README.md).
+std::optional<std::string> Navigator::screen_at(double bearing_deg, double distance_m) {
+  const Pose pose = pose_();
+  for (const Furniture& f : map_.furniture) {
+    if (!f.screen) continue;
+    // Angles relative to the box's centre as the robot sees it: no wrap-around at +-pi.
+    const Vec2 mid = (f.box.min + f.box.max) * 0.5 - pose.position();
+    const double centre = std::atan2(mid.y, mid.x);
+    const double seen = std::remainder(pose.heading + radians(bearing_deg) - centre, 2 * kPi);
+    const Vec2 corners[] = {
+        f.box.min, {f.box.max.x, f.box.min.y}, f.box.max, {f.box.min.x, f.box.max.y}};
+    double lo = 1e9, hi = -1e9, far = 0;
+    for (Vec2 c : corners) {
+      const Vec2 d = c - pose.position();
+      const double a = std::remainder(std::atan2(d.y, d.x) - centre, 2 * kPi);
+      lo = std::min(lo, a);
+      hi = std::max(hi, a);
+      far = std::max(far, std::hypot(d.x, d.y));
+    }
+    const Vec2 nearest{std::clamp(pose.x, f.box.min.x, f.box.max.x),
+                       std::clamp(pose.y, f.box.min.y, f.box.max.y)};
+    const double near = distance(nearest, pose.position());
+    const double margin = radians(3);
+    if (seen >= lo - margin && seen <= hi + margin && distance_m >= 0.5 * near &&
+        distance_m <= 1.5 * far) {
+      return normalise_name(f.name);
+    }
+  }
+  return std::nullopt;
 }
 
 std::vector<std::string> Navigator::rooms_to_search() {

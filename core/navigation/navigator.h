@@ -68,6 +68,7 @@ class Navigator : public GoingPlaces {
   bool turn(double degrees, const WaitFn& wait) override;
   std::optional<Spot> locate(double bearing_deg, double distance_m) override;
   std::vector<std::string> rooms_to_search() override;
+  std::optional<std::string> screen_at(double bearing_deg, double distance_m) override;
   std::optional<PlaceInfo> find_place(std::string_view name) override;
 
   const FloorMap& map() const { return map_; }

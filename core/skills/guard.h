@@ -3,8 +3,10 @@
 // time, but then "I'm home" may find it facing away); a face nobody enrolled, big enough to
 // identify (`min_face_px`), seen in `frames_needed` consecutive looks is an intruder: the alert
 // callback gets a photo taken then (it says so, logs the event, publishes it). A still picture
-// of a person (a TV, a poster) is the false alarm this cannot tell apart yet; requiring several
-// frames removes the one-frame misdetections only. Known faces never alert.
+// of a person on a TV is set aside (`is_picture`): a face inside a box the detector labels a
+// screen ("tv", "laptop"), or one the map puts at a screen (GoingPlaces::screen_at); a poster
+// the map does not know still alerts. Requiring several frames removes one-frame
+// misdetections. Known faces never alert.
 //
 // On/off: on() from anyone; off() is the host API's job to allow only for a known face in view
 // (finding_api.cpp, `guard`). Another process (`marvin guard off`) turns it off through
@@ -16,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 
@@ -29,6 +32,7 @@ struct GuardState {
   std::int64_t since_ms = 0;  // when it was turned on (Unix ms)
   int alerts = 0;             // alerts since then
   std::string by;             // who turned it off last
+  int pictures = 0;           // looks since then that saw faces of pictures only (a TV)
 };
 
 struct GuardOptions {
@@ -61,10 +65,17 @@ inline constexpr const char* kGuardStorageId = "host.guard";
 inline constexpr const char* kGuardStateKey = "state";
 inline constexpr const char* kGuardOffKey = "off_request";
 
-// {"on", "since_unix_ms", "alerts", "by"} and back (a field missing or of the wrong type:
-// std::invalid_argument naming it).
+// {"on", "since_unix_ms", "alerts", "by", "pictures"} and back (a field missing or of the
+// wrong type: std::invalid_argument naming it; "pictures" may be missing: state stored before
+// session 9).
 std::string guard_state_json(const GuardState& s);
 GuardState guard_state_from_json(const std::string& text);
+
+// Whether `face` (an entry of Eyes::look_json's "faces") of the look `seen` is a picture of a
+// person rather than a person: inside an object box the detector labels "tv" or "laptop", or
+// (with `places`) at a screen on the map by its bearing and the distance its size gives.
+bool is_picture(const nlohmann::json& face, const nlohmann::json& seen,
+                navigation::GoingPlaces* places);
 
 class Guard {
  public:

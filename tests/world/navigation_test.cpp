@@ -188,3 +188,18 @@ TEST_CASE("the names a user can say after \"go to\"") {
                            "the front door", "Anna", "me"})
     CHECK(std::find(names.begin(), names.end(), want) != names.end());
 }
+
+// Guard mode takes a face at a screen the map knows for a picture (skills/guard.h): the robot
+// 1.6 m in front of the default home's tv stand, marked a screen here, facing it.
+TEST_CASE("screen_at: straight ahead at the tv's distance is the tv; beside it or close is not") {
+  marvin::sim::World world = home();
+  for (auto& f : world.map.furniture) f.screen = f.name == "tv stand";
+  world.robot.start = {1.0, 2.9, 3.14159265358979 / 2};
+  Rig rig(std::move(world));
+  CHECK(rig.nav.screen_at(0, 1.6) == std::optional<std::string>("tv stand"));
+  CHECK(rig.nav.screen_at(-15, 2.0) == std::optional<std::string>("tv stand"));  // its right end
+  CHECK_FALSE(rig.nav.screen_at(45, 1.8).has_value());         // beside it (to the left, x < 0)
+  CHECK_FALSE(rig.nav.screen_at(0, 0.6).has_value());          // between the robot and the tv
+  CHECK_FALSE(rig.nav.screen_at(180, 1.6).has_value());        // behind the robot
+  CHECK_FALSE(Rig(home()).nav.screen_at(0, 1.6).has_value());  // no screen on the map
+}

@@ -84,6 +84,17 @@ TEST_CASE("malformed world files name the element and the field") {
             world_with(R"("devices": [{"name": "lamp", "type": "toaster", "room": "hall"}],)")) ==
         "/tmp/w.json: devices[0] \"lamp\": 'type' \"toaster\" must be \"light\", \"fan\" or "
         "\"switch\"");
+  CHECK(
+      error_of(world_with(
+          R"("furniture": [{"name": "tv", "min": [1, 1], "max": [2, 1.3], "screen": "yes"}],)")) ==
+      "/tmp/w.json: furniture[0] \"tv\": 'screen' must be true or false");
+  CHECK(
+      parse_world(
+          world_with(
+              R"("furniture": [{"name": "tv", "min": [1, 2], "max": [2, 2.3], "screen": true}],)"),
+          "/tmp/w.json")
+          .map.furniture.at(0)
+          .screen);
   CHECK(error_of(world_with(R"("people": [{"name": "Tom", "at": [1, 2], "room": "hall"}],)")) ==
         "/tmp/w.json: people[0] \"Tom\": 'photo' (or 'photos') is missing: the camera shows it");
   CHECK(error_of(R"({"format": "marvin-world", "version": 1,
