@@ -446,7 +446,12 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
         const double stop_m = drop ? options_.step_down_stop_m : options_.stop_m;
         const bool stop = horizontal < stop_m && horizontal < dist + 0.15;
         bool new_mark = false;
-        if (!grid_.occupied(grid_.cell_of(hit))) {
+        // An echo from a wall or furniture of the map (it can land a cell short of it) is
+        // not news: marking it again, inflated, narrows doors the plan needs (a downward ray
+        // that meets a door jamb's foot did that: guidance found "the kitchen door is
+        // blocked"). A step down is always marked; anything close ahead still stops below.
+        const bool on_map = grid_.near_static(hit, 0.15);
+        if (!grid_.occupied(grid_.cell_of(hit)) && (drop || !on_map)) {
           grid_.add_obstacle(hit, options_.mark_radius_m);
           seen_.push_back(hit);
           if (drop) {
@@ -464,7 +469,6 @@ Navigator::Follow Navigator::follow(const std::vector<Vec2>& path, const WaitFn&
         }
         // Told: what is new within announce_m, not a wall or furniture of the map (an echo
         // from it can land a cell short of it), nor a step down already told within 1 m.
-        const bool on_map = grid_.near_static(hit, 0.15);
         const bool told_before =
             drop && std::any_of(told_drops_.begin(), told_drops_.end(),
                                 [&](Vec2 d) { return distance(d, hit) < 1.0; });
