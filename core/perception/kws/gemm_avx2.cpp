@@ -31,41 +31,12 @@ namespace marvin::perception::kws {
 
 namespace detail {
 
-namespace {
-
-template <typename W>
-PackedWeights256<W> pack256(const std::int16_t* w, int cols, int depth, int group) {
-  PackedWeights256<W> p;
-  p.cols = cols;
-  p.depth = depth;
-  p.groups = (depth + group - 1) / group;
-  p.blocks = (cols + 7) / 8;
-  p.data.assign(static_cast<std::size_t>(p.groups) * static_cast<std::size_t>(p.blocks) * 8 *
-                    static_cast<std::size_t>(group),
-                0);
-  for (int j = 0; j < cols; ++j) {
-    for (int k = 0; k < depth; ++k) {
-      const std::size_t at =
-          ((static_cast<std::size_t>(k / group) * static_cast<std::size_t>(p.blocks) +
-            static_cast<std::size_t>(j / 8)) *
-               8 +
-           static_cast<std::size_t>(j % 8)) *
-              static_cast<std::size_t>(group) +
-          static_cast<std::size_t>(k % group);
-      p.data[at] = static_cast<W>(w[static_cast<std::ptrdiff_t>(j) * depth + k]);
-    }
-  }
-  return p;
-}
-
-}  // namespace
-
 Packed256S16 pack_weights_s16_avx2(const std::int16_t* w, int cols, int depth) {
-  return pack256<std::int16_t>(w, cols, depth, 2);
+  return pack_weights<std::int16_t, 8>(w, cols, depth, 2);
 }
 
 Packed256S8 pack_weights_s8_avx2(const std::int16_t* w, int cols, int depth) {
-  return pack256<std::int8_t>(w, cols, depth, 4);
+  return pack_weights<std::int8_t, 8>(w, cols, depth, 4);
 }
 
 }  // namespace detail

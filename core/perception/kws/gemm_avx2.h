@@ -25,16 +25,9 @@
 
 namespace marvin::perception::kws::detail {
 
-// Weights [cols][depth] rearranged to [depth/G groups][cols/8 blocks][8 cols][G], zero padded
-// to whole groups and blocks (the padding contributes nothing to the sums).
+// Weights packed for 8-lane vectors (PackedWeights in gemm_avx512.h).
 template <typename W>
-struct PackedWeights256 {
-  int cols = 0;
-  int depth = 0;
-  int groups = 0;
-  int blocks = 0;
-  std::vector<W> data;
-};
+using PackedWeights256 = PackedWeights<W, 8>;
 using Packed256S16 = PackedWeights256<std::int16_t>;  // G = 2
 using Packed256S8 = PackedWeights256<std::int8_t>;    // G = 4
 // `w` holds int8 values (as int16, like every other path).

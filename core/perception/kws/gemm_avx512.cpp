@@ -28,39 +28,12 @@ namespace marvin::perception::kws {
 
 namespace detail {
 
-namespace {
-
-template <typename W>
-PackedWeights512<W> pack(const std::int16_t* w, int cols, int depth, int group) {
-  PackedWeights512<W> p;
-  p.cols = cols;
-  p.depth = depth;
-  p.groups = (depth + group - 1) / group;
-  p.blocks = (cols + 15) / 16;
-  p.data.assign(static_cast<std::size_t>(p.groups) * static_cast<std::size_t>(p.blocks) * 16 *
-                    static_cast<std::size_t>(group),
-                0);
-  for (int j = 0; j < cols; ++j) {
-    for (int k = 0; k < depth; ++k) {
-      const std::size_t at =
-          ((static_cast<std::size_t>(k / group) * static_cast<std::size_t>(p.blocks) +
-            static_cast<std::size_t>(j / 16)) * 16 + static_cast<std::size_t>(j % 16)) *
-              static_cast<std::size_t>(group) +
-          static_cast<std::size_t>(k % group);
-      p.data[at] = static_cast<W>(w[static_cast<std::ptrdiff_t>(j) * depth + k]);
-    }
-  }
-  return p;
-}
-
-}  // namespace
-
 PackedS16 pack_weights_s16(const std::int16_t* w, int cols, int depth) {
-  return pack<std::int16_t>(w, cols, depth, 2);
+  return pack_weights<std::int16_t, 16>(w, cols, depth, 2);
 }
 
 PackedS8 pack_weights_s8(const std::int16_t* w, int cols, int depth) {
-  return pack<std::int8_t>(w, cols, depth, 4);
+  return pack_weights<std::int8_t, 16>(w, cols, depth, 4);
 }
 
 }  // namespace detail

@@ -13,21 +13,48 @@
 // Call only when gemm_s16_avx512_available().
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace marvin::perception::kws::detail {
 
-// Weights [cols][depth] rearranged to [depth/G groups][cols/16 blocks][16 cols][G], zero
-// padded to whole groups and blocks (the padding contributes nothing to the sums).
-template <typename W>
-struct PackedWeights512 {
+// Weights [cols][depth] rearranged to [depth/G groups][cols/L blocks][L cols][G], zero padded
+// to whole groups and blocks (the padding contributes nothing to the sums): one vector load
+// holds L output channels x one group of G inputs. L is 16 for 512-bit vectors, 8 for 256-bit
+// (gemm_avx2.h); G is 2 for int16 weights, 4 for int8.
+template <typename W, int L>
+struct PackedWeights {
   int cols = 0;
   int depth = 0;
   int groups = 0;
   int blocks = 0;
   std::vector<W> data;
 };
+// `w` [cols][depth] holds int8 values (as int16, like every other path).
+template <typename W, int L>
+PackedWeights<W, L> pack_weights(const std::int16_t* w, int cols, int depth, int group) {
+  PackedWeights<W, L> p;
+  p.cols = cols;
+  p.depth = depth;
+  p.groups = (depth + group - 1) / group;
+  p.blocks = (cols + L - 1) / L;
+  const auto g = static_cast<std::size_t>(group);
+  const auto blocks = static_cast<std::size_t>(p.blocks);
+  p.data.assign(static_cast<std::size_t>(p.groups) * blocks * L * g, 0);
+  for (int j = 0; j < cols; ++j) {
+    for (int k = 0; k < depth; ++k) {
+      const std::size_t at = ((static_cast<std::size_t>(k / group) * blocks +
+                               static_cast<std::size_t>(j / L)) * L +
+                              static_cast<std::size_t>(j % L)) * g +
+                             static_cast<std::size_t>(k % group);
+      p.data[at] = static_cast<W>(w[static_cast<std::ptrdiff_t>(j) * depth + k]);
+    }
+  }
+  return p;
+}
+template <typename W>
+using PackedWeights512 = PackedWeights<W, 16>;
 using PackedS16 = PackedWeights512<std::int16_t>;  // G = 2
 using PackedS8 = PackedWeights512<std::int8_t>;    // G = 4
 // `w` holds int8 values (as int16, like every other path).
