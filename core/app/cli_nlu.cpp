@@ -11,10 +11,10 @@
 //                               shows as a gap between the halves
 //
 // Labels: a request is right when the intent chosen carries the line's label. An intent's
-// label comes from kDefaultLabels below (the names of the shared development set) or from
-// --labels FILE (lines `skill/intent<TAB>label`, `skill/*` for every intent of a skill),
-// else it is the intent's own name. The dialogue words map to yes, no, cancel (stop) and
-// repeat. Labels no loaded skill carries are listed but not scored (their skill is missing).
+// label comes from interpret::default_eval_labels() (the names of the shared development set)
+// or from --labels FILE (lines `skill/intent<TAB>label`, `skill/*` for every intent of a
+// skill), else it is the intent's own name. The dialogue words map to yes, no, cancel (stop)
+// and repeat. Labels no loaded skill carries are listed but not scored (their skill is missing).
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "interpret/eval_labels.h"
 #include "app/host.h"
 #include "app/installed_skills.h"
 #include "common/log.h"
@@ -57,34 +58,10 @@ std::uint32_t fnv1a(const std::string& text) {
   return h;
 }
 
-// skill/intent -> label for the built-in and example skills.
-const std::vector<std::pair<std::string, std::string>> kDefaultLabels{
-    {"time/time", "time"},
-    {"time/day", "date"},
-    {"schedule/remind", "reminder_set"},
-    {"schedule/snooze", "reminder_set"},
-    {"schedule/list_reminders", "reminder_query"},
-    {"schedule/agenda", "schedule_query"},
-    {"schedule/agenda_today", "schedule_query"},
-    {"schedule/add_event", "schedule_change"},
-    {"schedule/cancel", "schedule_change"},
-    {"schedule/set_timer", "timer"},
-    {"schedule/timer_left", "timer"},
-    {"schedule/cancel_timer", "timer"},
-    {"hello/hello", "greeting"},
-    {"hello/about", "about"},
-    {"hello-lua/hello", "greeting"},
-    {"hello-lua/about", "about"},
-    {"medication/add", "reminder_set"},
-    {"call/*", "call"},
-    {"phone/*", "call"},
-    {"home/*", "smart_home"},  // skills-builtin/home: turn_on, turn_off, set_level, ...
-};
-
 class Labels {
  public:
   explicit Labels(const std::string& file) {
-    for (const auto& [key, label] : kDefaultLabels) labels_[key] = label;
+    for (const auto& [key, label] : interpret::default_eval_labels()) labels_[key] = label;
     if (file.empty()) return;
     std::ifstream in(file);
     if (!in) throw CliError("--labels: cannot read " + file, 1);
@@ -151,26 +128,10 @@ std::string join_nlu_words(const std::vector<std::string>& words) {
   return out;
 }
 
-const char* builtin_label(interpret::Builtin b) {
-  switch (b) {
-    case interpret::Builtin::kStop:
-      return "cancel";
-    case interpret::Builtin::kYes:
-      return "yes";
-    case interpret::Builtin::kNo:
-      return "no";
-    case interpret::Builtin::kRepeat:
-      return "repeat";
-    case interpret::Builtin::kNone:
-      break;
-  }
-  return nullptr;
-}
-
 void explain(const NluOptions& o) {
   auto host = load_host(o);
   const auto& interpreter = host->registry().interpreter();
-  if (const char* b = builtin_label(interpreter.builtin(o.text))) {
+  if (const char* b = interpret::builtin_eval_label(interpreter.builtin(o.text))) {
     write_line(std::string("dialogue word: ") + b + " (always checked first)");
   }
   interpret::Understanding u = interpreter.understand(o.text, nlu_context(o));
@@ -238,7 +199,7 @@ void eval(const NluOptions& o) {
     std::string predicted = "none";
     bool asked = false;
     std::vector<std::string> asked_labels;
-    if (const char* b = builtin_label(interpreter.builtin(text))) {
+    if (const char* b = interpret::builtin_eval_label(interpreter.builtin(text))) {
       predicted = b;
     } else {
       interpret::Understanding u = interpreter.understand(text, context);

@@ -1,7 +1,6 @@
 // Robot API 1.4, guiding (issue 22): guide_to, go_to for leading a person who cannot see:
 // slower, and telling the skill (on its own thread) what happens on the way.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "skills/host_call.h"
@@ -14,6 +13,8 @@ using host_call::guarded;
 using host_call::need;
 using host_call::need_service;
 using host_call::need_text;
+using host_call::trip_status;
+using host_call::trip_wait;
 using nlohmann::json;
 
 // A skill's on_event must not start another trip (the navigator runs one at a time).
@@ -49,7 +50,6 @@ marvin_status api_guide_to(marvin_host* host, const char* place, uint32_t speed_
     MARVIN_TRY(need_service(c, c.services().going_places, "map to go places with"));
     if (c.cancelled()) return fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
     navigation::GoingPlaces& going = *c.services().going_places;
-    const double scale = going.time_scale() > 0 ? going.time_scale() : 1.0;
     const double factor = speed_percent == 0 ? 0.5 : std::max(10u, speed_percent) / 100.0;
     bool stopped_by_skill = false;
     navigation::GoingPlaces::GuideFn tell;
@@ -63,25 +63,9 @@ marvin_status api_guide_to(marvin_host* host, const char* place, uint32_t speed_
         return stop == 0 && !c.cancelled();
       };
     }
-    navigation::GoResult r =
-        going.guide_to(place, factor, tell, [&](std::chrono::milliseconds robot_ms) {
-          auto wall = static_cast<std::uint32_t>(
-              std::max(1.0, static_cast<double>(robot_ms.count()) / scale));
-          return c.wait_cancelled_for(wall);
-        });
-    switch (r.outcome) {
-      case navigation::GoResult::Outcome::kArrived:
-        return MARVIN_OK;
-      case navigation::GoResult::Outcome::kUnknownPlace:
-        return fail(c, MARVIN_ERR_NOT_FOUND, r.reason);
-      case navigation::GoResult::Outcome::kCancelled:
-        going.stop();
-        return fail(c, MARVIN_ERR_CANCELLED,
-                    stopped_by_skill ? "the skill stopped the trip" : "the motion was stopped");
-      case navigation::GoResult::Outcome::kGaveUp:
-        break;
-    }
-    return fail(c, MARVIN_ERR_UNAVAILABLE, r.reason);
+    const navigation::GoResult r = going.guide_to(place, factor, tell, trip_wait(c, going));
+    return trip_status(c, going, r,
+                       stopped_by_skill ? "the skill stopped the trip" : "the motion was stopped");
   });
 }
 

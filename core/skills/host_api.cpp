@@ -22,6 +22,8 @@ using host_call::need;
 using host_call::need_out;
 using host_call::need_service;
 using host_call::need_text;
+using host_call::trip_status;
+using host_call::trip_wait;
 
 json parse_json_arg(SkillContext& c, const char* text, const char* what, marvin_status* status) {
   try {
@@ -156,25 +158,8 @@ marvin_status api_go_to(marvin_host* host, const char* place) {
     MARVIN_TRY(need_service(c, c.services().going_places, "map to go places with"));
     if (c.cancelled()) return fail(c, MARVIN_ERR_CANCELLED, "the request was cancelled");
     navigation::GoingPlaces& going = *c.services().going_places;
-    const double scale = going.time_scale() > 0 ? going.time_scale() : 1.0;
-    // Between control steps the navigator waits here, so "stop" (cancel()) wakes it at once
-    // and it stops the wheels before returning.
-    navigation::GoResult r = going.go_to(place, [&](std::chrono::milliseconds robot_ms) {
-      auto wall = static_cast<std::uint32_t>(std::max(1.0, static_cast<double>(robot_ms.count()) / scale));
-      return c.wait_cancelled_for(wall);
-    });
-    switch (r.outcome) {
-      case navigation::GoResult::Outcome::kArrived:
-        return MARVIN_OK;
-      case navigation::GoResult::Outcome::kUnknownPlace:
-        return fail(c, MARVIN_ERR_NOT_FOUND, r.reason);
-      case navigation::GoResult::Outcome::kCancelled:
-        going.stop();
-        return fail(c, MARVIN_ERR_CANCELLED, "the motion was stopped");
-      case navigation::GoResult::Outcome::kGaveUp:
-        break;
-    }
-    return fail(c, MARVIN_ERR_UNAVAILABLE, r.reason);
+    const navigation::GoResult r = going.go_to(place, trip_wait(c, going));
+    return trip_status(c, going, r, "the motion was stopped");
   });
 }
 

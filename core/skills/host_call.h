@@ -5,6 +5,9 @@
 // included by the files that fill in `marvin_robot_api`, never by a skill.
 #pragma once
 
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
 #include <exception>
 #include <initializer_list>
 #include <string>
@@ -74,6 +77,36 @@ template <class Service>
 marvin_status need_service(SkillContext& c, const Service& service, const char* what) {
   if (service) return MARVIN_OK;
   return fail(c, MARVIN_ERR_UNAVAILABLE, std::string("this robot has no ") + what);
+}
+
+// How a trip (go_to, guide_to) waits between the navigator's control steps: `robot_ms` of
+// robot time as wall time (the simulation may run faster), woken at once by "stop" (the
+// request's cancel()), so the navigator stops the wheels before returning. True: cancelled.
+inline auto trip_wait(SkillContext& c, const navigation::GoingPlaces& going) {
+  const double scale = going.time_scale() > 0 ? going.time_scale() : 1.0;
+  return [&c, scale](std::chrono::milliseconds robot_ms) {
+    auto wall = static_cast<std::uint32_t>(
+        std::max(1.0, static_cast<double>(robot_ms.count()) / scale));
+    return c.wait_cancelled_for(wall);
+  };
+}
+
+// What a finished trip tells the skill: MARVIN_OK there; NOT_FOUND for a place the map does
+// not know; CANCELLED (wheels stopped) with `cancelled_why`; UNAVAILABLE with the reason.
+inline marvin_status trip_status(SkillContext& c, navigation::GoingPlaces& going,
+                                 const navigation::GoResult& r, const char* cancelled_why) {
+  switch (r.outcome) {
+    case navigation::GoResult::Outcome::kArrived:
+      return MARVIN_OK;
+    case navigation::GoResult::Outcome::kUnknownPlace:
+      return fail(c, MARVIN_ERR_NOT_FOUND, r.reason);
+    case navigation::GoResult::Outcome::kCancelled:
+      going.stop();
+      return fail(c, MARVIN_ERR_CANCELLED, cancelled_why);
+    case navigation::GoResult::Outcome::kGaveUp:
+      break;
+  }
+  return fail(c, MARVIN_ERR_UNAVAILABLE, r.reason);
 }
 
 }  // namespace marvin::skills::host_call

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <string>
 #include <vector>
 
+#include "interpret/eval_labels.h"
 #include "interpret/interpreter.h"
 #include "skills/manifest.h"
 #include "skills/registry.h"
@@ -17,6 +17,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using marvin::interpret::Builtin;
+using marvin::interpret::builtin_eval_label;
+using marvin::interpret::default_eval_label;
 using marvin::interpret::Context;
 using marvin::interpret::Interpreter;
 using marvin::interpret::Understanding;
@@ -131,45 +133,6 @@ Interpreter builtin_interpreter() {
   return in;
 }
 
-// The eval tool's labels (core/app/cli_nlu.cpp kDefaultLabels) for the built-in skills.
-std::string label_of(const std::string& skill, const std::string& intent) {
-  static const std::map<std::string, std::string> kLabels{
-      {"time/time", "time"},
-      {"time/day", "date"},
-      {"schedule/remind", "reminder_set"},
-      {"schedule/snooze", "reminder_set"},
-      {"schedule/list_reminders", "reminder_query"},
-      {"schedule/agenda", "schedule_query"},
-      {"schedule/agenda_today", "schedule_query"},
-      {"schedule/add_event", "schedule_change"},
-      {"schedule/cancel", "schedule_change"},
-      {"schedule/set_timer", "timer"},
-      {"schedule/timer_left", "timer"},
-      {"schedule/cancel_timer", "timer"},
-      {"hello/hello", "greeting"},
-      {"hello/about", "about"}};
-  if (auto it = kLabels.find(skill + "/" + intent); it != kLabels.end()) return it->second;
-  if (skill == "home") return "smart_home";
-  if (skill == "phone") return "call";
-  return intent;
-}
-
-const char* dialogue_label(Builtin b) {
-  switch (b) {
-    case Builtin::kStop:
-      return "cancel";
-    case Builtin::kYes:
-      return "yes";
-    case Builtin::kNo:
-      return "no";
-    case Builtin::kRepeat:
-      return "repeat";
-    case Builtin::kNone:
-      break;
-  }
-  return nullptr;
-}
-
 }  // namespace
 
 // A guard against fitting the development set: requests written for this test alone
@@ -189,14 +152,14 @@ TEST_CASE("held-out requests: the right intent and out of scope declined at the 
     REQUIRE(tab != std::string::npos);
     const std::string text = line.substr(0, tab), gold = line.substr(tab + 1);
     std::vector<std::string> chosen;
-    if (const char* b = dialogue_label(in.builtin(text))) {
+    if (const char* b = builtin_eval_label(in.builtin(text))) {
       chosen.emplace_back(b);
     } else {
       const Understanding u = in.understand(text, context());
       if (u.outcome == Understanding::Outcome::kMatch) {
-        chosen.push_back(label_of(u.match->skill_id, u.match->intent));
+        chosen.push_back(default_eval_label(u.match->skill_id, u.match->intent));
       } else if (u.outcome == Understanding::Outcome::kAsk) {
-        for (const auto& c : u.choices) chosen.push_back(label_of(c.skill_id, c.intent));
+        for (const auto& c : u.choices) chosen.push_back(default_eval_label(c.skill_id, c.intent));
         chosen.emplace_back("(asked)");
       }
     }
