@@ -3,9 +3,9 @@
 // through the host's voice front end (app/voice_host.h).
 // `marvin voice listen FILE.wav [--audio-out reply.wav]`: the voice loop (wake word,
 // recognition, spoken reply) on a recording, with a small demo grammar or --grammar FILE.jsgf.
-// The wake word is pocketsphinx keyphrase spotting unless --wake-word neural (the shipped
-// models/marvin-kws.bin, or $MARVIN_KWS_MODEL). The neural spotter becomes the default once
-// it meets its streaming goals (issue 9); today it misses too often on synthetic speech.
+// The wake word is the embedding wake word (speech embedding + models/marvin-embedding-head.bin)
+// unless --wake-word cnn (models/marvin-kws.bin) or pocketsphinx: of the three it is the one
+// that hears real people (models/README.md, issue 21).
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -76,7 +76,7 @@ struct ListenArgs {
   std::string out;
   std::string grammar;
   float sensitivity = 0.5f;
-  std::string wake_word = "neural";
+  std::string wake_word = "embedding";
   std::string voice = "en-us";
   int rate = 160;
 };
@@ -188,7 +188,7 @@ void install_voice_commands(CLI::App& root) {
   listen_cmd->add_option("--sensitivity", listen_args->sensitivity, "Wake word sensitivity 0..1")
       ->capture_default_str();
   listen_cmd->add_option("--wake-word", listen_args->wake_word,
-                         "Wake-word detector: embedding (speech embedding + "
+                         "Wake-word detector: embedding (the default: speech embedding + "
                          "models/marvin-embedding-head.bin; falls back to cnn without "
                          "scripts/setup's models), cnn or neural (models/marvin-kws.bin or "
                          "$MARVIN_KWS_MODEL), or pocketsphinx keyphrase spotting")
@@ -213,7 +213,7 @@ void add_voice_run_options(CLI::App& run, VoiceRunOptions& o) {
                  "With --audio-in: write Marvin's speech to this WAV, aligned with the recording")
       ->needs(in);
   run.add_option("--wake-word", o.wake_word,
-                 "Wake-word detector: embedding (speech embedding + "
+                 "Wake-word detector: embedding (the default: speech embedding + "
                  "models/marvin-embedding-head.bin; falls back to cnn without "
                  "scripts/setup's models), cnn or neural (models/marvin-kws.bin or "
                  "$MARVIN_KWS_MODEL), or pocketsphinx keyphrase spotting")

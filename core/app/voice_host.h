@@ -61,7 +61,9 @@
 namespace marvin::app {
 
 struct VoiceHostOptions {
-  std::string wake_word = "neural";  // models/marvin-kws.bin ($MARVIN_KWS_MODEL), or "pocketsphinx"
+  // "embedding" (speech embedding + head; the cnn spotter when setup has not fetched the
+  // embedding), "cnn" = "neural" (models/marvin-kws.bin, $MARVIN_KWS_MODEL) or "pocketsphinx".
+  std::string wake_word = "embedding";
   float sensitivity = 0.5f;
   std::string voice = "en-us";
   int rate_wpm = 160;

@@ -15,7 +15,7 @@ namespace marvin::app {
 struct VoiceRunOptions {
   std::string audio_in;   // a recording (WAV, FLAC, any rate): run on it, then quit
   std::string audio_out;  // with audio_in: Marvin's speech, aligned with the recording
-  std::string wake_word = "neural";  // or "pocketsphinx", as `marvin voice listen`
+  std::string wake_word = "embedding";  // or "cnn", "pocketsphinx", as `marvin voice listen`
   float sensitivity = 0.5f;
   std::string device = "default";  // ALSA device for the live microphone and speaker
 };

@@ -82,3 +82,24 @@ TEST_CASE("embedding wake word: sensitivity maps to the threshold, reset repeats
   REQUIRE(a.size() == b.size());
   for (std::size_t k = 0; k < a.size(); ++k) CHECK(a[k].end_sample == b[k].end_sample);
 }
+
+TEST_CASE("a head that needs N consecutive scores fires on the N-th step over the threshold") {
+  // All weights zero and b3 = 5: every score is sigmoid(5) = 0.993, from the 16th embedding on.
+  kws::EmbeddingHead always;
+  always.resize(4);
+  always.b3 = 5.0f;
+  always.threshold = 0.9f;
+  always.refractory_seconds = 100.0f;  // one detection per run
+  const std::vector<float> quiet(16000 * 3, 0.0f);
+  std::int64_t first_end[2] = {0, 0};
+  for (int n : {1, 3}) {
+    always.consecutive = n;
+    kws::EmbeddingWakeWord d(front_end(), always, 0.5f);
+    std::vector<perception::WakeWordDetection> det;
+    d.process_float(quiet, det);
+    REQUIRE(det.size() == 1);
+    first_end[n == 1 ? 0 : 1] = det[0].end_sample;
+  }
+  // Two 80 ms steps (1280 samples each) later with 3 steps than with 1.
+  CHECK(first_end[1] - first_end[0] == 2 * kws::kEmbeddingHop);
+}

@@ -22,6 +22,7 @@ kws::EmbeddingHead numbered_head() {
   h.keyword = "smart mirror";
   h.threshold = 0.8f;
   h.refractory_seconds = 1.5f;
+  h.consecutive = 3;
   h.resize(8);
   float v = 0.0f;
   for (auto* w : {&h.w1, &h.b1, &h.w2, &h.b2, &h.w3}) {
@@ -68,6 +69,7 @@ TEST_CASE("an embedding head file round-trips") {
   CHECK(back.hidden == 8);
   CHECK(back.threshold == 0.8f);
   CHECK(back.refractory_seconds == 1.5f);
+  CHECK(back.consecutive == 3);
   CHECK(back.w1 == h.w1);
   CHECK(back.w2 == h.w2);
   CHECK(back.w3 == h.w3);
@@ -77,6 +79,23 @@ TEST_CASE("an embedding head file round-trips") {
   std::vector<float> input(kws::kHeadInputs, 0.1f);
   CHECK(back.score(input) == h.score(input));
   std::filesystem::remove(path);
+}
+
+TEST_CASE("a version 1 head file (no consecutive steps) still loads, needing one step") {
+  // Version 1 is version 2 without the u32 at byte 32.
+  std::vector<std::uint8_t> bytes = kws::serialize_head(numbered_head());
+  bytes.erase(bytes.begin() + 32, bytes.begin() + 36);
+  bytes[8] = 1;
+  bytes.resize(bytes.size() - 4);
+  const std::uint32_t crc = kws::crc32(bytes.data(), bytes.size());
+  const auto* p = reinterpret_cast<const std::uint8_t*>(&crc);
+  bytes.insert(bytes.end(), p, p + 4);
+  const kws::EmbeddingHead back = kws::parse_head(bytes, "v1.bin");
+  CHECK(back.consecutive == 1);
+  CHECK(back.keyword == "smart mirror");
+  CHECK(back.refractory_seconds == 1.5f);
+  CHECK(back.w1 == numbered_head().w1);
+  CHECK(back.b3 == -0.5f);
 }
 
 TEST_CASE("bad embedding head files are refused with the field and byte") {
@@ -94,8 +113,8 @@ TEST_CASE("bad embedding head files are refused with the field and byte") {
 
   auto version = good;
   version[8] = 7;
-  CHECK(head_error(version).find("version at byte 12: format version 7, this build reads 1") !=
-        std::string::npos);
+  CHECK(head_error(version).find(
+            "version at byte 12: format version 7, this build reads 1 and 2") != std::string::npos);
 
   auto magic = good;
   magic[0] = 'X';
@@ -112,6 +131,11 @@ TEST_CASE("bad embedding head files are refused with the field and byte") {
   auto frames = good;
   frames[12] = 10;
   CHECK(head_error(frames).find("embeddings per input at byte 16: 10, expected 16") !=
+        std::string::npos);
+
+  auto steps = good;
+  steps[32] = 0;
+  CHECK(head_error(steps).find("consecutive steps at byte 36: 0, expected 1..10") !=
         std::string::npos);
 
   CHECK_THROWS_WITH_AS(kws::load_head("/nonexistent/head.bin"),

@@ -12,6 +12,7 @@
 #include <iterator>
 #include <string>
 
+#include "perception/kws/embedding_head.h"
 #include "perception/kws/model_file.h"
 
 namespace kws = marvin::perception::kws;
@@ -111,4 +112,53 @@ TEST_CASE("marvin-kws-model refuses bad settings and writes nothing") {
 
   CHECK_FALSE(fs::exists(out));
   CHECK(bytes_of(in) == before);
+}
+
+TEST_CASE("marvin-kws-model sets an embedding head's threshold and steps, weights untouched") {
+  TempDir dir;
+  kws::EmbeddingHead h;
+  h.keyword = "alexa";
+  h.resize(4);
+  for (std::size_t i = 0; i < h.w1.size(); ++i) h.w1[i] = 0.001f * static_cast<float>(i % 97);
+  h.b3 = -0.25f;
+  const fs::path in = dir.path / "head.bin", out = dir.path / "tuned.bin";
+  kws::save_head(in, h);
+  const Run ok = run_tool(in.string() + " --threshold 0.4 --consecutive 3 --out " + out.string());
+  INFO(ok.output);
+  REQUIRE(ok.status == 0);
+  const kws::EmbeddingHead tuned = kws::load_head(out);
+  CHECK(tuned.threshold == doctest::Approx(0.4f));
+  CHECK(tuned.consecutive == 3);
+  CHECK(tuned.refractory_seconds == h.refractory_seconds);
+  CHECK(tuned.keyword == "alexa");
+  CHECK(tuned.w1 == h.w1);
+  CHECK(tuned.b3 == h.b3);
+  CHECK(ok.output.find("threshold 0.400, 3 consecutive steps") != std::string::npos);
+}
+
+TEST_CASE("marvin-kws-model refuses settings that do not fit the file and writes nothing") {
+  TempDir dir;
+  kws::EmbeddingHead h;
+  h.resize(4);
+  const fs::path head = dir.path / "head.bin", cnn = dir.path / "cnn.bin",
+                 out = dir.path / "out.bin";
+  kws::save_head(head, h);
+  kws::KwsModel m;
+  m.network = kws::make_initialised_network(6);
+  kws::save_model(cnn, m, kws::WeightType::float32);
+  const std::string head_before = bytes_of(head), cnn_before = bytes_of(cnn);
+
+  Run r = run_tool(head.string() + " --consecutive 0 --out " + out.string());
+  CHECK(r.status == 1);
+  CHECK(r.output.find("--consecutive 0: expected 1..10 steps") != std::string::npos);
+  r = run_tool(head.string() + " --smoothing 2 --out " + out.string());
+  CHECK(r.status == 1);
+  CHECK(r.output.find("an embedding head takes --consecutive") != std::string::npos);
+  r = run_tool(cnn.string() + " --consecutive 2 --out " + out.string());
+  CHECK(r.status == 1);
+  CHECK(r.output.find("the cnn spotter's model takes --smoothing") != std::string::npos);
+
+  CHECK_FALSE(fs::exists(out));
+  CHECK(bytes_of(head) == head_before);
+  CHECK(bytes_of(cnn) == cnn_before);
 }

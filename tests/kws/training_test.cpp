@@ -299,3 +299,46 @@ TEST_CASE("augmentations keep their promises") {
   for (std::size_t i = 0; i < x.size(); ++i) diff[i] = x[i] - tone[i];
   CHECK(kws::rms(diff) == doctest::Approx(kws::rms(tone)).epsilon(0.05));
 }
+
+TEST_CASE("reverb spreads a click into a decaying tail and keeps length and peak") {
+  std::vector<float> click(16000, 0.0f);
+  click[100] = 0.5f;
+  std::mt19937_64 rng(3);
+  const std::vector<float> wet = kws::add_reverb(click, 0.4f, -6.0f, rng);
+  REQUIRE(wet.size() == click.size());
+  float peak = 0.0f;
+  for (float v : wet) peak = std::max(peak, std::fabs(v));
+  CHECK(peak == doctest::Approx(0.5f).epsilon(1e-4));
+  CHECK(wet[100] == doctest::Approx(0.5f).epsilon(1e-4));  // the direct path stays the peak
+  for (std::size_t i = 0; i < 100; ++i) CHECK(wet[i] == 0.0f);  // nothing before the sound
+  // The tail: energy right after the click, less 200 ms later, next to none past the RT60.
+  auto energy = [&](std::size_t from, std::size_t n) {
+    return kws::rms(std::span<const float>(wet).subspan(from, n));
+  };
+  const float early = energy(101 + 160, 1600), late = energy(101 + 3200, 1600);
+  CHECK(early > 0.0f);
+  CHECK(late < 0.5f * early);
+  CHECK(energy(101 + 6600, 1600) < 0.01f * early);
+  // The same seed gives the same room.
+  std::mt19937_64 again(3);
+  CHECK(kws::add_reverb(click, 0.4f, -6.0f, again) == wet);
+}
+
+TEST_CASE("band_limit passes speech frequencies and cuts below and above its corners") {
+  auto tone = [](float hz) {
+    std::vector<float> x(16000);
+    for (std::size_t i = 0; i < x.size(); ++i)
+      x[i] = 0.5f * std::sin(2.0f * 3.14159265f * hz * static_cast<float>(i) / 16000.0f);
+    return x;
+  };
+  auto gain = [&](float hz) {
+    std::vector<float> x = tone(hz);
+    const float before = kws::rms(std::span<const float>(x).subspan(4000, 12000));
+    kws::band_limit(x, 200.0f, 4000.0f);
+    return kws::rms(std::span<const float>(x).subspan(4000, 12000)) / before;
+  };
+  CHECK(gain(1000.0f) == doctest::Approx(1.0f).epsilon(0.05));
+  CHECK(gain(200.0f) == doctest::Approx(0.707f).epsilon(0.05));  // -3 dB at the corner
+  CHECK(gain(50.0f) < 0.1f);                                      // 12 dB per octave
+  CHECK(gain(7500.0f) < 0.35f);
+}

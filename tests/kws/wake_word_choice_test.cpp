@@ -51,3 +51,9 @@ TEST_CASE("--wake-word embedding uses the embedding detector when its models are
   CHECK_THROWS_WITH(marvin::app::make_wake_word("snowboy", 0.5f),
                     doctest::Contains("expected embedding, cnn (or neural) or pocketsphinx"));
 }
+
+TEST_CASE("the host listens with the embedding wake word unless told otherwise") {
+  const marvin::app::VoiceHostOptions defaults;
+  auto detector = marvin::app::make_wake_word(defaults.wake_word, defaults.sensitivity);
+  CHECK(dynamic_cast<marvin::perception::kws::EmbeddingWakeWord*>(detector.get()) != nullptr);
+}

@@ -8,8 +8,8 @@
 //   in place of the keyword; real recordings of other words (--negatives-dir, each file
 //   `--real-copies` times); the keyword-free conversation of negative_speech(), cut into every
 //   second window of 16 embeddings; pure background noise;
-// - everything over background noise (the noise pool) at an SNR in [-5, 10] dB (80 %), else a
-//   quiet floor, at a peak level of -18..-2 dBFS.
+// - everything over background noise (the noise pool) at an SNR in [-5, 10] dB (80 %; see
+//   --quiet-share), else a quiet floor or digital silence, at a peak level of -18..-2 dBFS.
 // Synthesis runs on one thread (espeak-ng keeps global state); embedding on --threads.
 #include "train_embedding.h"
 
@@ -20,12 +20,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <thread>
 
 #include "devices/audio/sound_file.h"
 #include "kws/training/augment.h"
 #include "kws/training/dataset.h"
+#include "kws/training/flite_voices.h"
+#include "kws/training/generated_voices.h"
 #include "kws/training/head_trainer.h"
 #include "perception/kws/speech_embedding.h"
 
@@ -50,8 +53,8 @@ float level_gain(const std::vector<float>& x, float peak_db) {
 // Places `word` to end `tail` samples before the end of an example, with optional context
 // before it, over noise.
 RawExample place(const std::vector<float>& word, const std::vector<float>* context, float label,
-                 const std::vector<std::vector<float>>& noise_pool, std::mt19937_64& rng,
-                 float tail_min_s = 0.0f, float tail_max_s = 0.24f,
+                 const std::vector<std::vector<float>>& noise_pool, float quiet_share,
+                 std::mt19937_64& rng, float tail_min_s = 0.0f, float tail_max_s = 0.24f,
                  const std::vector<float>* after = nullptr) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   RawExample ex;
@@ -84,8 +87,10 @@ RawExample place(const std::vector<float>& word, const std::vector<float>* conte
   }
   const auto& noise =
       noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
-  if (u(rng) < 0.8f) {
+  if (u(rng) >= quiet_share) {
     kws::add_noise_at_snr(ex.audio, noise, -5.0f + 15.0f * u(rng), rng);
+  } else if (u(rng) < 0.25f) {
+    // Digital silence around the words (a synthesised or edited recording).
   } else {
     const float floor =
         std::pow(10.0f, (-60.0f + 15.0f * u(rng)) / 20.0f) / std::max(kws::rms(noise), 1e-6f);
@@ -187,23 +192,40 @@ MineResult mine_stream(const std::vector<float>& audio,
   return r;
 }
 
+// What is done to real recordings before mining them: `variants` renditions of each (the first
+// as recorded, the others with speed and pitch changed by 0.85..1.15, as another speaker's
+// voice), each with the room and microphone of the synthetic examples at the same shares.
+struct RealVariants {
+  int variants = 1;
+  float reverb_share = 0.0f, band_share = 0.0f;
+};
+
 // Recordings one after another, 0.2..1.5 s apart, over background noise at an SNR in
 // [-5, 10] dB (80 % of the time) or quiet, each at -18..-2 dBFS peak.
 std::vector<float> real_stream(const std::vector<std::vector<float>>& recordings,
                                const std::vector<std::vector<float>>& noise_pool,
-                               std::mt19937_64& rng) {
+                               const RealVariants& how, std::mt19937_64& rng) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<float> audio;
-  for (const auto& r : recordings) {
-    std::vector<float> piece(static_cast<std::size_t>((0.2f + 1.3f * u(rng)) * 16000.0f), 0.0f);
-    const float g = level_gain(r, -18.0f + 16.0f * u(rng));
-    for (float v : r) piece.push_back(g * v);
-    const auto& noise =
-        noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
-    if (u(rng) < 0.8f) kws::add_noise_at_snr(piece, noise, -5.0f + 15.0f * u(rng), rng);
-    for (float& v : piece) v = std::clamp(v, -1.0f, 1.0f);
-    audio.insert(audio.end(), piece.begin(), piece.end());
-  }
+  for (int variant = 0; variant < how.variants; ++variant)
+    for (const auto& recording : recordings) {
+      std::vector<float> r = recording;
+      if (variant > 0) {
+        r = kws::change_speed_and_pitch(r, 0.85 + 0.3 * u(rng));
+        if (u(rng) < how.reverb_share)
+          r = kws::add_reverb(r, 0.15f + 0.45f * u(rng), -12.0f + 12.0f * u(rng), rng);
+        if (u(rng) < how.band_share)
+          kws::band_limit(r, 80.0f + 320.0f * u(rng), 3000.0f + 4500.0f * u(rng));
+      }
+      std::vector<float> piece(static_cast<std::size_t>((0.2f + 1.3f * u(rng)) * 16000.0f), 0.0f);
+      const float g = level_gain(r, -18.0f + 16.0f * u(rng));
+      for (float v : r) piece.push_back(g * v);
+      const auto& noise =
+          noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+      if (u(rng) < 0.8f) kws::add_noise_at_snr(piece, noise, -5.0f + 15.0f * u(rng), rng);
+      for (float& v : piece) v = std::clamp(v, -1.0f, 1.0f);
+      audio.insert(audio.end(), piece.begin(), piece.end());
+    }
   return audio;
 }
 
@@ -218,8 +240,8 @@ std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& f
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::directory_iterator(folder)) {
     const std::string ext = e.path().extension().string();
-    if (e.is_regular_file() &&
-        (ext == ".wav" || ext == ".flac" || ext == ".WAV" || ext == ".FLAC")) {
+    if (e.is_regular_file() && (ext == ".wav" || ext == ".flac" || ext == ".ogg" || ext == ".WAV" ||
+                                ext == ".FLAC" || ext == ".OGG")) {
       files.push_back(e.path());
     }
   }
@@ -238,12 +260,13 @@ std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& f
 int train_embedding_main(int argc, char** argv) {
   CLI::App app{"Train the head of Marvin's embedding wake word (speech embedding + small MLP)"};
   std::string keyword = "marvin", out = "models/marvin-embedding-head.bin", noise_dir;
-  std::vector<std::string> negative_dirs;
+  std::vector<std::string> negative_dirs, spellings;
   std::uint64_t seed = 1;
   int positives = 1500, negatives = 1500, noise_examples = 200, real_copies = 1, threads = 2;
   int late_keywords = 1000, conversation_stride = 1;
   double negative_minutes = 10.0;
   float threshold = 0.5f, refractory = 2.0f;
+  int consecutive = 1;
   bool embedding = true;
   kws::HeadTrainOptions topt;
   std::vector<std::string> feature_files, mine_dirs;
@@ -251,10 +274,18 @@ int train_embedding_main(int argc, char** argv) {
   double mine_minutes = 0.0;
   float mine_floor = 0.1f;
   int mine_copies = 1;
+  float flite_share = 0.0f, reverb_share = 0.0f, band_share = 0.0f;
+  int generated_voices = 0, real_variants = 1;
+  float quiet_share = 0.2f;
+  std::string voices_dir;
   topt.epochs = 30;
   app.add_flag("--embedding", embedding, "train the embedding wake word's head (this recipe)");
   app.add_option("--keyword", keyword, "what is said (lower case)")->capture_default_str();
   app.add_option("--out", out, "head file to write")->capture_default_str();
+  app.add_option("--spelling", spellings,
+                 "texts the synthesisers say for the keyword, one picked per example (default: "
+                 "the keyword; e.g. \"alexa\" \"alexa?\" \"ah lexa\" for other stresses and "
+                 "intonations)");
   app.add_option("--seed", seed)->capture_default_str();
   app.add_option("--positives", positives, "synthesised keyword examples")->capture_default_str();
   app.add_option("--negatives", negatives, "synthesised other-speech examples")
@@ -272,6 +303,25 @@ int train_embedding_main(int argc, char** argv) {
                  "folders of real recordings of other words (negatives)");
   app.add_option("--real-copies", real_copies, "examples made from each real recording")
       ->capture_default_str();
+  app.add_option("--flite", flite_share,
+                 "share of the synthesised utterances said by flite's voices instead of espeak-ng")
+      ->capture_default_str();
+  app.add_option("--generated-voices", generated_voices,
+                 "also speak with this many random espeak-ng variants of each training accent")
+      ->capture_default_str();
+  app.add_option("--voices-dir", voices_dir,
+                 "with --generated-voices: where the private espeak-ng data goes (must not "
+                 "exist; default: a temporary directory, removed at exit)");
+  app.add_option("--quiet-share", quiet_share,
+                 "share of the examples without background noise at [-5, 10] dB SNR: a faint "
+                 "floor, a quarter of them digital silence")
+      ->capture_default_str();
+  app.add_option("--reverb", reverb_share,
+                 "share of the synthesised examples heard in a room (RT60 0.15..0.6 s)")
+      ->capture_default_str();
+  app.add_option("--band-limit", band_share,
+                 "share of the synthesised examples heard through a cheap microphone")
+      ->capture_default_str();
   app.add_option("--noise-examples", noise_examples, "background-noise-only examples")
       ->capture_default_str();
   app.add_option("--noise", noise_dir, "folder of background-noise recordings (else generated)");
@@ -283,6 +333,10 @@ int train_embedding_main(int argc, char** argv) {
   app.add_option("--threshold", threshold, "detection threshold stored in the head")
       ->capture_default_str();
   app.add_option("--refractory", refractory, "seconds without a second detection")
+      ->capture_default_str();
+  app.add_option("--consecutive", consecutive,
+                 "scores in a row over the threshold for a detection (stored in the head)")
+      ->check(CLI::Range(1, 10))
       ->capture_default_str();
   app.add_option("--threads", threads, "threads for the embeddings")->capture_default_str();
   app.add_option("--final-negative-weight", topt.final_negative_weight,
@@ -298,6 +352,10 @@ int train_embedding_main(int argc, char** argv) {
                  "minutes of keyword-free synthetic conversation (training voices) to mine")
       ->capture_default_str();
   app.add_option("--mine-dir", mine_dirs, "folders of real recordings of other words to mine");
+  app.add_option("--mine-variants", real_variants,
+                 "renditions of each --mine-dir recording: as recorded, then faster or slower "
+                 "(speed and pitch 0.85..1.15) with --reverb and --band-limit")
+      ->capture_default_str();
   app.add_option("--mine-floor", mine_floor)->capture_default_str();
   app.add_option("--mine-copies", mine_copies)->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -306,12 +364,25 @@ int train_embedding_main(int argc, char** argv) {
     const auto models = kws::EmbeddingModels::load();
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    const std::vector<std::string> voices = kws::training_voices();
+    std::unique_ptr<kws::GeneratedVoiceSet> generated;
+    if (generated_voices > 0)
+      generated = std::make_unique<kws::GeneratedVoiceSet>(generated_voices, seed, voices_dir);
+    const std::vector<std::string> voices =
+        generated ? generated->voices() : kws::training_voices();
     std::uniform_int_distribution<std::size_t> pick_voice(0, voices.size() - 1);
     std::uniform_int_distribution<int> rate(110, 230), pitch(20, 80);
     const auto noise_pool = kws::make_noise_pool(noise_dir, voices, rng);
+    const auto& flite = kws::flite_voices();
     auto say = [&](const std::string& text) {
-      std::vector<float> w = kws::synthesize(text, voices[pick_voice(rng)], rate(rng), pitch(rng));
+      std::vector<float> w;
+      if (flite_share > 0.0f && u(rng) < flite_share) {
+        const std::string& v =
+            flite[std::uniform_int_distribution<std::size_t>(0, flite.size() - 1)(rng)];
+        const float f0 = v == "slt" ? 150.0f + 100.0f * u(rng) : 80.0f + 70.0f * u(rng);
+        w = kws::synthesize_flite(text, v, 0.8f + 0.45f * u(rng), f0);
+      } else {
+        w = kws::synthesize(text, voices[pick_voice(rng)], rate(rng), pitch(rng));
+      }
       if (u(rng) < 0.5f) w = kws::change_speed_and_pitch(w, 0.9 + 0.2 * u(rng));
       return w;
     };
@@ -334,17 +405,22 @@ int train_embedding_main(int argc, char** argv) {
     }
     if (feature_files.empty()) {
       std::vector<RawExample> raw;
+      if (spellings.empty()) spellings.push_back(keyword);
+      auto say_keyword = [&] {
+        return say(
+            spellings[std::uniform_int_distribution<std::size_t>(0, spellings.size() - 1)(rng)]);
+      };
       for (int k = 0; k < positives; ++k) {
-        const std::vector<float> w = say(keyword);
+        const std::vector<float> w = say_keyword();
         const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
-        raw.push_back(place(w, &ctx, 1.0f, noise_pool, rng));
+        raw.push_back(place(w, &ctx, 1.0f, noise_pool, quiet_share, rng));
       }
       // The keyword heard too long ago (it ended 0.45..1.2 s before), alone or followed by a
       // command: not a detection now, or a keyword followed by speech fires twice.
       for (int k = 0; k < late_keywords; ++k) {
-        const std::vector<float> w = say(keyword);
+        const std::vector<float> w = say_keyword();
         const std::vector<float> after = u(rng) < 0.7f ? say(other_text()) : std::vector<float>{};
-        raw.push_back(place(w, nullptr, 0.0f, noise_pool, rng, 0.45f, 1.2f, &after));
+        raw.push_back(place(w, nullptr, 0.0f, noise_pool, quiet_share, rng, 0.45f, 1.2f, &after));
       }
       std::printf("%d keyword examples, %d late-keyword examples synthesised (%.0f s)\n", positives,
                   late_keywords, head_seconds_since(start));
@@ -359,16 +435,27 @@ int train_embedding_main(int argc, char** argv) {
                                  w.begin() + static_cast<std::ptrdiff_t>(at + n));
         }
         const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
-        raw.push_back(place(w, &ctx, 0.0f, noise_pool, rng));
+        raw.push_back(place(w, &ctx, 0.0f, noise_pool, quiet_share, rng));
       }
       for (int k = 0; k < noise_examples; ++k)
-        raw.push_back(place({}, nullptr, 0.0f, noise_pool, rng));
+        raw.push_back(place({}, nullptr, 0.0f, noise_pool, quiet_share, rng));
       std::printf("%d other-speech and %d noise examples synthesised (%.0f s)\n", negatives,
                   noise_examples, head_seconds_since(start));
+      // The room and the microphone, for keyword and other speech alike (so that neither
+      // becomes a cue): real recordings have both, espeak-ng and flite have neither.
+      for (RawExample& ex : raw) {
+        if (u(rng) < reverb_share)
+          ex.audio =
+              kws::add_reverb(ex.audio, 0.15f + 0.45f * u(rng), -12.0f + 12.0f * u(rng), rng);
+        if (u(rng) < band_share)
+          kws::band_limit(ex.audio, 80.0f + 320.0f * u(rng), 3000.0f + 4500.0f * u(rng));
+        for (float& v : ex.audio) v = std::clamp(v, -1.0f, 1.0f);
+      }
       for (const auto& dir : negative_dirs) {
         const auto recordings = read_sound_folder(dir, 0);
         for (int c = 0; c < real_copies; ++c) {
-          for (const auto& r : recordings) raw.push_back(place(r, nullptr, 0.0f, noise_pool, rng));
+          for (const auto& r : recordings)
+            raw.push_back(place(r, nullptr, 0.0f, noise_pool, quiet_share, rng));
         }
         real += recordings.size() * static_cast<std::size_t>(real_copies);
         std::printf("%zu real recordings from %s\n", recordings.size(), dir.c_str());
@@ -395,7 +482,8 @@ int train_embedding_main(int argc, char** argv) {
                              kws::negative_speech(mine_minutes * 60.0, voices, noise_pool, rng));
       }
       for (const auto& dir : mine_dirs) {
-        streams.emplace_back(dir, real_stream(read_sound_folder(dir, 0), noise_pool, rng));
+        streams.emplace_back(dir, real_stream(read_sound_folder(dir, 0), noise_pool,
+                                              {real_variants, reverb_share, band_share}, rng));
       }
       for (const auto& [name, audio] : streams) {
         const MineResult m = mine_stream(audio, models, mine_head, mine_floor);
@@ -442,6 +530,7 @@ int train_embedding_main(int argc, char** argv) {
     head.keyword = keyword;
     head.threshold = threshold;
     head.refractory_seconds = refractory;
+    head.consecutive = consecutive;
     for (float th : {0.5f, 0.8f, 0.9f, 0.95f}) {
       const kws::HeadAccuracy a = kws::head_accuracy(head, test, th);
       std::printf(

@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -144,29 +145,12 @@ int main(int argc, char** argv) {
           "--mine-minutes must be >= 0, --mine-floor in (0, 1], --mine-keep in "
           "[0, 1], --mine-copies >= 1");
     }
-    // Removes the temporary espeak-ng data directory however main() ends.
-    struct RemoveAtExit {
-      std::filesystem::path path;
-      ~RemoveAtExit() {
-        std::error_code ignored;
-        if (!path.empty()) std::filesystem::remove_all(path, ignored);
-      }
-    } temporary_voices;
+    std::unique_ptr<kws::GeneratedVoiceSet> generated;
     if (generated_voices > 0) {
       if (!data_dir.empty())
         throw std::runtime_error("--generated-voices is for synthesised data, not --data");
-      std::filesystem::path dir = voices_dir;
-      if (dir.empty()) {
-        dir = std::filesystem::temp_directory_path() /
-              ("marvin-kws-voices-" + std::to_string(::getpid()));
-        temporary_voices.path = dir;
-      }
-      const std::vector<std::string> variants =
-          kws::install_generated_variants(generated_voices, dopt.seed, dir);
-      kws::use_espeak_data(dir);
-      dopt.voices = kws::training_voices();
-      for (const std::string& v : kws::voices_with_variants(kws::training_accents(), variants))
-        dopt.voices.push_back(v);
+      generated = std::make_unique<kws::GeneratedVoiceSet>(generated_voices, dopt.seed, voices_dir);
+      dopt.voices = generated->voices();
       std::printf("voices: %zu (%d generated variants x %zu accents added)\n", dopt.voices.size(),
                   generated_voices, kws::training_accents().size());
     }

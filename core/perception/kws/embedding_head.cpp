@@ -25,7 +25,8 @@ class HeadReader {
   HeadReader(const std::vector<std::uint8_t>& bytes, std::size_t end, const std::string& name)
       : bytes_(bytes), end_(end), name_(name) {}
   [[noreturn]] void fail(const std::string& field, const std::string& message) const {
-    throw ModelFileError(name_ + ": " + field + " at byte " + std::to_string(pos_) + ": " + message);
+    throw ModelFileError(name_ + ": " + field + " at byte " + std::to_string(pos_) + ": " +
+                         message);
   }
   void need(std::size_t n, const char* field) const {
     if (end_ - pos_ < n) {
@@ -114,6 +115,7 @@ std::vector<std::uint8_t> serialize_head(const EmbeddingHead& head) {
   put_u32(out, static_cast<std::uint32_t>(head.hidden));
   put_f32(out, head.threshold);
   put_f32(out, head.refractory_seconds);
+  put_u32(out, static_cast<std::uint32_t>(head.consecutive));
   put_u32(out, static_cast<std::uint32_t>(head.keyword.size()));
   out.insert(out.end(), head.keyword.begin(), head.keyword.end());
   for (const auto* v : {&head.w1, &head.b1, &head.w2, &head.b2, &head.w3}) {
@@ -126,18 +128,20 @@ std::vector<std::uint8_t> serialize_head(const EmbeddingHead& head) {
 
 EmbeddingHead parse_head(const std::vector<std::uint8_t>& bytes, const std::string& name) {
   if (bytes.size() < 12 || std::memcmp(bytes.data(), kHeadMagic, 8) != 0) {
-    throw ModelFileError(name + ": magic at byte 0: expected \"MRVNKWE\" (an embedding "
+    throw ModelFileError(name +
+                         ": magic at byte 0: expected \"MRVNKWE\" (an embedding "
                          "wake-word head), found something else or a file under 12 bytes");
   }
   HeadReader r(bytes, bytes.size() - 4, name);
   r.text(8, "magic");
   const std::uint32_t version = r.u32("version");
-  if (version != kHeadFormatVersion) {
-    r.fail("version", "format version " + std::to_string(version) + ", this build reads " +
+  if (version != 1 && version != kHeadFormatVersion) {
+    r.fail("version", "format version " + std::to_string(version) + ", this build reads 1 and " +
                           std::to_string(kHeadFormatVersion));
   }
   const std::uint32_t frames = r.u32("embeddings per input");
-  if (frames != kHeadEmbeddings) r.fail("embeddings per input", std::to_string(frames) + ", expected 16");
+  if (frames != kHeadEmbeddings)
+    r.fail("embeddings per input", std::to_string(frames) + ", expected 16");
   const std::uint32_t size = r.u32("embedding size");
   if (size != kEmbeddingSize) r.fail("embedding size", std::to_string(size) + ", expected 96");
   const std::uint32_t hidden = r.u32("hidden");
@@ -147,8 +151,15 @@ EmbeddingHead parse_head(const std::vector<std::uint8_t>& bytes, const std::stri
   if (head.threshold < 0.0f || head.threshold > 1.0f) r.fail("threshold", "expected 0..1");
   head.refractory_seconds = r.f32("refractory seconds");
   if (head.refractory_seconds < 0.0f) r.fail("refractory seconds", "expected >= 0");
+  if (version >= 2) {
+    const std::uint32_t consecutive = r.u32("consecutive steps");
+    if (consecutive < 1 || consecutive > 10)
+      r.fail("consecutive steps", std::to_string(consecutive) + ", expected 1..10");
+    head.consecutive = static_cast<int>(consecutive);
+  }
   const std::uint32_t length = r.u32("keyword length");
-  if (length < 1 || length > 64) r.fail("keyword length", std::to_string(length) + ", expected 1..64");
+  if (length < 1 || length > 64)
+    r.fail("keyword length", std::to_string(length) + ", expected 1..64");
   head.keyword = r.text(length, "keyword");
   const std::size_t weights_at = r.pos();
   const std::size_t weights =
@@ -179,7 +190,8 @@ EmbeddingHead parse_head(const std::vector<std::uint8_t>& bytes, const std::stri
 void save_head(const std::filesystem::path& path, const EmbeddingHead& head) {
   const std::vector<std::uint8_t> bytes = serialize_head(head);
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
   if (!out) throw std::runtime_error(path.string() + ": cannot write the head file");
 }
 

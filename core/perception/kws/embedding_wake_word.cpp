@@ -30,6 +30,7 @@ void EmbeddingWakeWord::reset() {
   stream_.reset();
   history_.clear();
   last_detection_end_ = -1;
+  run_ = 0;
 }
 
 std::size_t EmbeddingWakeWord::process(std::span<const std::int16_t> samples,
@@ -66,7 +67,9 @@ std::size_t EmbeddingWakeWord::consume(std::vector<WakeWordDetection>& detection
         last_end - static_cast<std::int64_t>(fresh_.size() - 1 - k) * kEmbeddingHop;
     if (score_log_ != nullptr) score_log_->emplace_back(end, score);
     const auto refractory = static_cast<std::int64_t>(head_.refractory_seconds * 16000.0f);
-    if (score >= threshold_ && (last_detection_end_ < 0 || end - last_detection_end_ >= refractory)) {
+    run_ = score >= threshold_ ? run_ + 1 : 0;
+    if (run_ >= head_.consecutive &&
+        (last_detection_end_ < 0 || end - last_detection_end_ >= refractory)) {
       last_detection_end_ = end;
       // A spoken keyword is under a second; the head saw the last 1.28 s.
       detections.push_back({std::max<std::int64_t>(0, end - 16000), end, score});

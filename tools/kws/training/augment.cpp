@@ -231,4 +231,71 @@ std::vector<float> trim_silence(std::span<const float> x, float threshold_db) {
                             x.begin() + static_cast<std::ptrdiff_t>(e));
 }
 
+std::vector<float> add_reverb(std::span<const float> x, float rt60_s, float reverb_db,
+                              std::mt19937_64& rng) {
+  constexpr float kRate = 16000.0f;
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  // The tail: one tap in each 8-sample cell (2000 a second), random sign, decaying to -60 dB
+  // at rt60 (amplitude exp(-6.9 t / rt60)).
+  struct Tap {
+    std::size_t delay;
+    float gain;
+  };
+  std::vector<Tap> taps;
+  const auto first = static_cast<std::size_t>((0.002f + 0.006f * u(rng)) * kRate);
+  const auto length = static_cast<std::size_t>(rt60_s * kRate);
+  double energy = 0.0;
+  for (std::size_t cell = first; cell < length; cell += 8) {
+    const std::size_t d = cell + static_cast<std::size_t>(u(rng) * 8.0f);
+    const float a =
+        std::exp(-6.9f * static_cast<float>(d) / (rt60_s * kRate)) * (u(rng) < 0.5f ? -1.0f : 1.0f);
+    taps.push_back({d, a});
+    energy += static_cast<double>(a) * a;
+  }
+  const float scale = energy > 0.0
+                          ? static_cast<float>(std::pow(10.0, reverb_db / 20.0) / std::sqrt(energy))
+                          : 0.0f;
+  std::vector<float> y(x.begin(), x.end());
+  for (const Tap& t : taps) {
+    const float g = t.gain * scale;
+    for (std::size_t i = t.delay; i < y.size(); ++i) y[i] += g * x[i - t.delay];
+  }
+  float peak_in = 0.0f, peak_out = 0.0f;
+  for (float v : x) peak_in = std::max(peak_in, std::fabs(v));
+  for (float v : y) peak_out = std::max(peak_out, std::fabs(v));
+  if (peak_out > 0.0f) {
+    for (float& v : y) v *= peak_in / peak_out;
+  }
+  return y;
+}
+
+namespace {
+
+// One second-order Butterworth section (RBJ cookbook, Q = 1/sqrt 2), direct form I.
+void biquad(std::vector<float>& x, float hz, bool high_pass) {
+  const double w = 2.0 * std::numbers::pi * hz / 16000.0;
+  const double alpha = std::sin(w) / std::sqrt(2.0);
+  const double c = std::cos(w);
+  const double b0 = high_pass ? (1.0 + c) / 2.0 : (1.0 - c) / 2.0;
+  const double b1 = high_pass ? -(1.0 + c) : 1.0 - c;
+  const double a0 = 1.0 + alpha, a1 = -2.0 * c, a2 = 1.0 - alpha;
+  double x1 = 0.0, x2 = 0.0, y1 = 0.0, y2 = 0.0;
+  for (float& v : x) {
+    const double in = v;
+    const double out = (b0 * in + b1 * x1 + b0 * x2 - a1 * y1 - a2 * y2) / a0;
+    x2 = x1;
+    x1 = in;
+    y2 = y1;
+    y1 = out;
+    v = static_cast<float>(out);
+  }
+}
+
+}  // namespace
+
+void band_limit(std::vector<float>& x, float low_hz, float high_hz) {
+  biquad(x, low_hz, true);
+  biquad(x, high_hz, false);
+}
+
 }  // namespace marvin::perception::kws

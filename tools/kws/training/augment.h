@@ -37,6 +37,17 @@ std::vector<float> hpss_remix(std::span<const float> x, float harmonic_gain, flo
 void add_noise_at_snr(std::vector<float>& x, std::span<const float> noise, float snr_db,
                       std::mt19937_64& rng);
 
+// Room reverberation: `x` convolved with a synthetic impulse response, a direct path followed,
+// after 2..8 ms, by sparse random-sign taps ("velvet noise", about 2000 a second) whose level
+// decays by 60 dB over `rt60_s`; the tail's energy is `reverb_db` relative to the direct path's.
+// The result keeps x's length (the tail past the end is dropped) and its peak level.
+std::vector<float> add_reverb(std::span<const float> x, float rt60_s, float reverb_db,
+                              std::mt19937_64& rng);
+
+// A small or cheap microphone: second-order Butterworth high-pass at `low_hz` and low-pass at
+// `high_hz` (16 kHz), in place.
+void band_limit(std::vector<float>& x, float low_hz, float high_hz);
+
 // Strips leading and trailing parts quieter than `threshold_db` below the peak (20 ms frames).
 std::vector<float> trim_silence(std::span<const float> x, float threshold_db = 40.0f);
 

@@ -2,11 +2,14 @@
 
 #include <espeak-ng/espeak_ng.h>
 #include <espeak-ng/speak_lib.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "kws/training/dataset.h"
 
 namespace marvin::perception::kws {
 namespace {
@@ -94,6 +97,23 @@ std::vector<std::string> voices_with_variants(const std::vector<std::string>& ba
     for (const auto& v : variants) out.push_back(b + "+" + v);
   }
   return out;
+}
+
+GeneratedVoiceSet::GeneratedVoiceSet(int count, std::uint64_t seed, fs::path dir) {
+  if (dir.empty()) {
+    dir = fs::temp_directory_path() / ("marvin-kws-voices-" + std::to_string(::getpid()));
+    temporary_ = dir;
+  }
+  const std::vector<std::string> variants = install_generated_variants(count, seed, dir);
+  use_espeak_data(dir);
+  voices_ = training_voices();
+  for (const std::string& v : voices_with_variants(training_accents(), variants))
+    voices_.push_back(v);
+}
+
+GeneratedVoiceSet::~GeneratedVoiceSet() {
+  std::error_code ignored;
+  if (!temporary_.empty()) fs::remove_all(temporary_, ignored);
 }
 
 }  // namespace marvin::perception::kws

@@ -40,4 +40,21 @@ void use_espeak_data(const std::filesystem::path& dir);
 std::vector<std::string> voices_with_variants(const std::vector<std::string>& bases,
                                               const std::vector<std::string>& variants);
 
+// The generated variants of one training run: installs `count` variants (seed `seed`) into
+// `dir`, or into a temporary directory that the destructor removes when `dir` is empty; points
+// espeak-ng at them (before any synthesis); voices() lists training_voices() followed by every
+// training accent with every variant. Throws as install_generated_variants().
+class GeneratedVoiceSet {
+ public:
+  GeneratedVoiceSet(int count, std::uint64_t seed, std::filesystem::path dir);
+  ~GeneratedVoiceSet();
+  GeneratedVoiceSet(const GeneratedVoiceSet&) = delete;
+  GeneratedVoiceSet& operator=(const GeneratedVoiceSet&) = delete;
+  const std::vector<std::string>& voices() const { return voices_; }
+
+ private:
+  std::filesystem::path temporary_;
+  std::vector<std::string> voices_;
+};
+
 }  // namespace marvin::perception::kws

@@ -1,0 +1,46 @@
+// The training tools' second synthesiser: flite's voices speak, their duration follows the
+// stretch, and a missing flite program is an error that says what to run.
+#include "kws/training/flite_voices.h"
+
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+#include "kws/training/augment.h"
+
+namespace kws = marvin::perception::kws;
+
+TEST_CASE("every flite voice says a word, and a larger stretch says it slower") {
+  for (const std::string& voice : kws::flite_voices()) {
+    CAPTURE(voice);
+    const std::vector<float> normal = kws::synthesize_flite("marvin", voice, 1.0f, 120.0f);
+    const std::vector<float> slow = kws::synthesize_flite("marvin", voice, 1.5f, 120.0f);
+    CHECK(normal.size() > 16000 * 2 / 10);  // a word: more than 0.2 s
+    CHECK(normal.size() < 16000 * 3 / 2);
+    CHECK(kws::rms(normal) > 0.01f);
+    CHECK(static_cast<double>(slow.size()) > 1.3 * static_cast<double>(normal.size()));
+  }
+}
+
+TEST_CASE("without the flite program the error names it and scripts/setup") {
+  const char* old = std::getenv("PATH");
+  const std::string saved = old != nullptr ? old : "";
+  setenv("PATH", "/nonexistent", 1);
+  std::string message;
+  try {
+    kws::synthesize_flite("marvin", "slt", 1.0f, 150.0f);
+  } catch (const std::runtime_error& e) {
+    message = e.what();
+  }
+  setenv("PATH", saved.c_str(), 1);
+  CHECK(message.find("flite") != std::string::npos);
+  CHECK(message.find("scripts/setup") != std::string::npos);
+}
+
+TEST_CASE("an unknown flite voice is an error naming it") {
+  CHECK_THROWS_WITH_AS(kws::synthesize_flite("marvin", "nobody", 1.0f, 120.0f),
+                       doctest::Contains("flite voice \"nobody\": expected one of"),
+                       std::runtime_error);
+}
