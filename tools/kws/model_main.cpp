@@ -101,8 +101,8 @@ int main(int argc, char** argv) {
     }
     if (consecutive) {
       throw std::runtime_error(
-          "--consecutive is an embedding head's; the cnn spotter's model "
-          "takes --smoothing");
+          "--consecutive is an embedding head's; the cnn spotter's "
+          "model takes --smoothing");
     }
     kws::KwsModel model = kws::load_model(path);
     auto show = [&model](const std::string& name) {

@@ -207,7 +207,7 @@ std::vector<float> real_stream(const std::vector<std::vector<float>>& recordings
                                const RealVariants& how, std::mt19937_64& rng) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<float> audio;
-  for (int variant = 0; variant < how.variants; ++variant)
+  for (int variant = 0; variant < how.variants; ++variant) {
     for (const auto& recording : recordings) {
       std::vector<float> r = recording;
       if (variant > 0) {
@@ -226,6 +226,7 @@ std::vector<float> real_stream(const std::vector<std::vector<float>>& recordings
       for (float& v : piece) v = std::clamp(v, -1.0f, 1.0f);
       audio.insert(audio.end(), piece.begin(), piece.end());
     }
+  }
   return audio;
 }
 

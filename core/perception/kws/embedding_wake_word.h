@@ -3,10 +3,10 @@
 // every 80 ms of audio into 96 numbers; a small head trained here on synthetic speech
 // (embedding_head.h) scores the last 16 of them.
 //
-// Detection: the head's score every 80 ms (after 1.28 s of audio), a threshold that a number of
-// consecutive scores must reach, and a refractory period (the head's defaults). Sensitivity s in
-// [0, 1] maps to the threshold piecewise linearly: 0 -> 0.99, 0.5 -> the head's own threshold, 1 ->
-// 0.05.
+// Detection: the head's score every 80 ms (after 1.28 s of audio), a threshold that a number
+// of consecutive scores must reach, and a refractory period (the head's defaults).
+// Sensitivity s in [0, 1] maps to the threshold piecewise linearly: 0 -> 0.99, 0.5 -> the
+// head's own threshold, 1 -> 0.05.
 //
 // Thread safety: none (one detector per stream).
 #pragma once
