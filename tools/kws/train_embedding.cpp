@@ -192,6 +192,17 @@ MineResult mine_stream(const std::vector<float>& audio,
   return r;
 }
 
+// A room (RT60 0.15..0.6 s, tail -12..0 dB) with probability `reverb_share`, then a cheap
+// microphone (high-pass 80..400 Hz, low-pass 3..7.5 kHz) with probability `band_share`: what
+// real recordings have and espeak-ng and flite have not.
+void room_and_microphone(std::vector<float>& x, float reverb_share, float band_share,
+                         std::mt19937_64& rng) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  if (u(rng) < reverb_share)
+    x = kws::add_reverb(x, 0.15f + 0.45f * u(rng), -12.0f + 12.0f * u(rng), rng);
+  if (u(rng) < band_share) kws::band_limit(x, 80.0f + 320.0f * u(rng), 3000.0f + 4500.0f * u(rng));
+}
+
 // What is done to real recordings before mining them: `variants` renditions of each (the first
 // as recorded, the others with speed and pitch changed by 0.85..1.15, as another speaker's
 // voice), each with the room and microphone of the synthetic examples at the same shares.
@@ -212,10 +223,7 @@ std::vector<float> real_stream(const std::vector<std::vector<float>>& recordings
       std::vector<float> r = recording;
       if (variant > 0) {
         r = kws::change_speed_and_pitch(r, 0.85 + 0.3 * u(rng));
-        if (u(rng) < how.reverb_share)
-          r = kws::add_reverb(r, 0.15f + 0.45f * u(rng), -12.0f + 12.0f * u(rng), rng);
-        if (u(rng) < how.band_share)
-          kws::band_limit(r, 80.0f + 320.0f * u(rng), 3000.0f + 4500.0f * u(rng));
+        room_and_microphone(r, how.reverb_share, how.band_share, rng);
       }
       std::vector<float> piece(static_cast<std::size_t>((0.2f + 1.3f * u(rng)) * 16000.0f), 0.0f);
       const float g = level_gain(r, -18.0f + 16.0f * u(rng));
@@ -443,13 +451,9 @@ int train_embedding_main(int argc, char** argv) {
       std::printf("%d other-speech and %d noise examples synthesised (%.0f s)\n", negatives,
                   noise_examples, head_seconds_since(start));
       // The room and the microphone, for keyword and other speech alike (so that neither
-      // becomes a cue): real recordings have both, espeak-ng and flite have neither.
+      // becomes a cue).
       for (RawExample& ex : raw) {
-        if (u(rng) < reverb_share)
-          ex.audio =
-              kws::add_reverb(ex.audio, 0.15f + 0.45f * u(rng), -12.0f + 12.0f * u(rng), rng);
-        if (u(rng) < band_share)
-          kws::band_limit(ex.audio, 80.0f + 320.0f * u(rng), 3000.0f + 4500.0f * u(rng));
+        room_and_microphone(ex.audio, reverb_share, band_share, rng);
         for (float& v : ex.audio) v = std::clamp(v, -1.0f, 1.0f);
       }
       for (const auto& dir : negative_dirs) {
