@@ -342,3 +342,48 @@ TEST_CASE("band_limit passes speech frequencies and cuts below and above its cor
   CHECK(gain(50.0f) < 0.1f);                                      // 12 dB per octave
   CHECK(gain(7500.0f) < 0.35f);
 }
+
+TEST_CASE("drop_out silences 50..300 ms stretches after `from` and nothing else") {
+  std::vector<float> tone(32000);
+  for (std::size_t i = 0; i < tone.size(); ++i)
+    tone[i] = 0.5f * std::sin(0.1f * static_cast<float>(i)) + 0.6f;  // never zero
+  int longest = 0, shortest = 1 << 30;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    CAPTURE(seed);
+    std::vector<float> x = tone;
+    std::mt19937_64 rng(seed);
+    const std::size_t changed = kws::drop_out(x, 12000, 1, rng);
+    std::size_t begin = x.size(), end = 0, altered = 0, zeros = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (x[i] == 0.0f) {
+        begin = std::min(begin, i);
+        end = i + 1;
+        ++zeros;
+      } else {
+        altered += x[i] != tone[i] ? 1 : 0;
+      }
+    }
+    CHECK(altered == 0);
+    REQUIRE(end > begin);
+    CHECK(begin >= 12000);
+    CHECK(changed == end - begin);
+    CHECK(zeros == end - begin);  // one stretch
+    const int length = static_cast<int>(end - begin);
+    if (end < x.size()) {  // not cut short by the end of the sound
+      CHECK(length >= 800);
+      shortest = std::min(shortest, length);
+    }
+    CHECK(length <= 4800);
+    longest = std::max(longest, length);
+    std::vector<float> again = tone;
+    std::mt19937_64 rng2(seed);
+    kws::drop_out(again, 12000, 1, rng2);
+    CHECK(again == x);
+  }
+  CHECK(longest > 3000);  // the lengths spread over the range
+  CHECK(shortest < 2000);
+  std::vector<float> short_sound(100, 1.0f);
+  std::mt19937_64 rng(1);
+  CHECK(kws::drop_out(short_sound, 100, 2, rng) == 0);  // nothing after `from`
+  CHECK(short_sound == std::vector<float>(100, 1.0f));
+}

@@ -80,6 +80,64 @@ TEST_CASE("streaming resampler agrees with the one-shot conversion in length and
   CHECK_THROWS_WITH(resample(mono, 0, 16000), doctest::Contains("rates must be positive"));
 }
 
+TEST_CASE("a FLAC file with a damaged frame keeps the frames after it, the damaged one silent") {
+  TempDir dir;
+  // Two seconds of a tone whose loudness changes, so that no two FLAC frames are alike.
+  SoundBuffer sound;
+  sound.sample_rate = 16000;
+  sound.channels = 1;
+  for (int i = 0; i < 32000; ++i) {
+    sound.samples.push_back(static_cast<float>(
+        (0.2 + 0.5 * i / 32000.0) * std::sin(2.0 * std::numbers::pi * 330.0 * i / 16000.0)));
+  }
+  const fs::path file = dir.path / "damaged.flac";
+  write_sound_file(file, sound);
+  FlacDamage none;
+  REQUIRE(read_sound_file(file, &none).frames() == sound.frames());
+  CHECK(none.errors == 0);
+  CHECK(none.silenced_frames == 0);
+
+  // Scramble 16 bytes in the middle of the third audio frame (frames start with the sync
+  // code 0xFFF8).
+  std::vector<unsigned char> bytes;
+  {
+    std::FILE* f = std::fopen(file.c_str(), "rb");
+    for (int c; (c = std::fgetc(f)) != EOF;) bytes.push_back(static_cast<unsigned char>(c));
+    std::fclose(f);
+  }
+  std::vector<std::size_t> frame_starts;
+  for (std::size_t i = 42; i + 1 < bytes.size(); ++i) {
+    if (bytes[i] == 0xFF && bytes[i + 1] == 0xF8) frame_starts.push_back(i);
+  }
+  REQUIRE(frame_starts.size() >= 5);
+  const std::size_t middle = (frame_starts[2] + frame_starts[3]) / 2;
+  for (std::size_t i = middle; i < middle + 16; ++i) bytes[i] ^= 0x5A;
+  {
+    std::FILE* f = std::fopen(file.c_str(), "wb");
+    std::fwrite(bytes.data(), 1, bytes.size(), f);
+    std::fclose(f);
+  }
+
+  FlacDamage damage;
+  const SoundBuffer back = read_sound_file(file, &damage);
+  CHECK(damage.errors >= 1);
+  REQUIRE(back.frames() == sound.frames());  // libsndfile alone stops at the damaged frame
+  REQUIRE(damage.silenced_frames > 0);
+  CHECK(damage.silenced_frames <= 8192);  // one frame
+  REQUIRE(damage.first_frame > 0);
+  const auto first = static_cast<std::size_t>(damage.first_frame);
+  const auto after = first + static_cast<std::size_t>(damage.silenced_frames);
+  REQUIRE(after < sound.frames());
+  int wrong = 0;
+  for (std::size_t i = 0; i < sound.frames(); ++i) {
+    const float expected = i >= first && i < after ? 0.0f : sound.samples[i];
+    wrong += std::fabs(back.samples[i] - expected) > 1e-4f ? 1 : 0;
+  }
+  CHECK(wrong == 0);
+  // The speech path gets the same: full length, no error.
+  CHECK(read_speech_file(file).size() == sound.frames());
+}
+
 TEST_CASE("a missing or broken file is reported with its name") {
   TempDir dir;
   CHECK_THROWS_WITH(read_sound_file(dir.path / "nothing.wav"), doctest::Contains("nothing.wav"));

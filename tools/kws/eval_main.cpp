@@ -236,13 +236,24 @@ std::string variant_of(const std::string& voice) {
   return plus == std::string::npos ? "(none)" : voice.substr(plus + 1);
 }
 
-// --details: where one operating point goes wrong. Miss rate per voice base and variant, the
-// distribution of each keyword's highest posterior, and every false accept with what was
+// The scores a detector gave over a track, one per step: (end sample, score). The cnn spotter
+// gives one per 10 ms window, the embedding wake word one every 80 ms.
+using ScoreLog = std::vector<std::pair<std::int64_t, float>>;
+
+ScoreLog score_log(const Trace& trace) {
+  ScoreLog log;
+  for (std::size_t w = 0; w < trace.posteriors.size(); ++w)
+    log.emplace_back(end_sample(trace.end_frames[w]), trace.posteriors[w]);
+  return log;
+}
+
+// --details / --embedding-details: where one operating point goes wrong. Miss rate per voice
+// base and variant (on the real track: per folder), the distribution of each keyword's highest
+// score, each missed keyword with its highest score, and every false accept with what was
 // being said in the window that fired.
-void print_details(const Score& s, const Track& track, const Trace& trace, float threshold,
-                   int smoothing) {
-  std::printf("\ndetails at threshold %.3f, smoothing %d:\n", static_cast<double>(threshold),
-              smoothing);
+void print_details(const Score& s, const Track& track, const ScoreLog& log,
+                   const std::string& setting) {
+  std::printf("\ndetails at %s:\n", setting.c_str());
   std::map<std::string, std::pair<int, int>> by_base, by_variant;  // misses, keywords
   for (std::size_t k = 0; k < track.keywords.size(); ++k) {
     for (auto* m : {&by_base, &by_variant}) {
@@ -259,22 +270,30 @@ void print_details(const Score& s, const Track& track, const Trace& trace, float
                   100.0 * mt.first / std::max(1, mt.second));
     }
   }
-  // Highest raw posterior of a window ending inside each keyword's hit range.
+  // Highest score of a step ending inside each keyword's hit range.
   const float edges[] = {0.5f, 0.9f, 0.97f, 0.99f};
   int buckets[5] = {};
+  std::vector<float> peaks;
   for (const Segment& kw : track.keywords) {
     float peak = 0.0f;
-    for (std::size_t w = 0; w < trace.posteriors.size(); ++w) {
-      if (detects(kw, end_sample(trace.end_frames[w]))) peak = std::max(peak, trace.posteriors[w]);
+    for (const auto& [end, score] : log) {
+      if (detects(kw, end)) peak = std::max(peak, score);
     }
     int i = 0;
     while (i < 4 && peak >= edges[i]) ++i;
     ++buckets[i];
+    peaks.push_back(peak);
   }
   std::printf(
-      "  keywords by highest window posterior: <0.5 %d, 0.5-0.9 %d, 0.9-0.97 %d, 0.97-0.99 %d, "
-      ">=0.99 %d\n",
+      "  keywords by highest score: <0.5 %d, 0.5-0.9 %d, 0.9-0.97 %d, 0.97-0.99 %d, >=0.99 %d\n",
       buckets[0], buckets[1], buckets[2], buckets[3], buckets[4]);
+  std::printf("  missed keywords (time, highest score, who said what):\n");
+  for (std::size_t k = 0; k < track.keywords.size(); ++k) {
+    if (s.found[k]) continue;
+    const Segment& kw = track.keywords[k];
+    std::printf("    %7.1f s  %.3f  [%s] \"%s\"\n", static_cast<double>(kw.begin) / 16000.0,
+                static_cast<double>(peaks[k]), kw.voice.c_str(), kw.text.c_str());
+  }
   std::printf("  false accepts (time, then what was said in the 1 s before):\n");
   for (std::int64_t e : s.false_accept_ends) {
     std::string said;
@@ -290,9 +309,6 @@ void print_details(const Score& s, const Track& track, const Trace& trace, float
 }
 
 }  // namespace
-
-// The embedding wake word's scores over a track, one every 80 ms: (end sample, score).
-using ScoreLog = std::vector<std::pair<std::int64_t, float>>;
 
 ScoreLog embedding_scores(const kws::EmbeddingHead& head, const std::vector<std::int16_t>& pcm,
                           double* cpu_seconds) {
@@ -333,6 +349,9 @@ std::vector<std::int64_t> embedding_ends(const ScoreLog& log, float threshold, f
 
 // --embedding-consecutive: the step counts to replay (1 = every score on its own).
 std::vector<int> g_embedding_consecutive = {1};
+// --embedding-details: the threshold to show the first head's misses and false accepts at
+// (with the first --embedding-consecutive step count); negative: none.
+float g_embedding_details = -1.0f;
 
 struct EvalRow {
   double miss, fah;
@@ -447,6 +466,14 @@ std::vector<std::vector<EvalRow>> all_embedding_rows(const std::vector<std::stri
                 heads[h].keyword.c_str(), static_cast<double>(heads[h].refractory_seconds));
     print_embedding_rows(logs[h], track, thresholds, heads[h].refractory_seconds, hours, rows[h]);
   }
+  if (g_embedding_details >= 0.0f) {
+    const int steps = g_embedding_consecutive.front();
+    const Score s = score(
+        embedding_ends(logs[0], g_embedding_details, heads[0].refractory_seconds, steps), track);
+    print_details(s, track, logs[0],
+                  paths[0] + " threshold " + std::to_string(g_embedding_details) + ", " +
+                      std::to_string(steps) + " steps");
+  }
   std::printf(
       "(embedding wake word \"%s\": %.1f s of CPU for %.1f s of audio, %.2f%% of one core)\n",
       heads.front().keyword.c_str(), cpu, hours * 3600.0, 100.0 * cpu / (hours * 3600.0));
@@ -461,28 +488,96 @@ void print_all_best(const std::vector<std::string>& paths,
   }
 }
 
+// The real track's background, one piece after another: the --noise recordings in turn, else
+// 10 s of noise made afresh each time (white, pink, brown, or the babble of four held-out
+// voices). Fresh, because a short noise clip played over and over makes one chance pattern in
+// it that the detector takes for the keyword into dozens of false accepts.
+class Background {
+ public:
+  Background(std::vector<std::vector<float>> recordings, std::mt19937_64& rng)
+      : recordings_(std::move(recordings)), rng_(rng) {}
+
+  std::vector<float> next() {
+    if (!recordings_.empty())
+      return recordings_[std::uniform_int_distribution<std::size_t>(0,
+                                                                    recordings_.size() - 1)(rng_)];
+    constexpr std::size_t ten_s = 160000;
+    switch (std::uniform_int_distribution<int>(0, 3)(rng_)) {
+      case 0:
+        return kws::make_noise(kws::NoiseColour::white, ten_s, 0.1f, rng_);
+      case 1:
+        return kws::make_noise(kws::NoiseColour::pink, ten_s, 0.1f, rng_);
+      case 2:
+        return kws::make_noise(kws::NoiseColour::brown, ten_s, 0.1f, rng_);
+      default:
+        return babble(ten_s);
+    }
+  }
+
+ private:
+  std::vector<float> babble(std::size_t samples) {
+    const std::vector<std::string> voices = kws::heldout_voices();
+    std::vector<float> out(samples, 0.0f);
+    for (int stream = 0; stream < 4; ++stream) {
+      for (std::size_t pos = std::uniform_int_distribution<std::size_t>(0, 16000)(rng_);
+           pos < samples;) {
+        const auto& text = kws::sentences()[std::uniform_int_distribution<std::size_t>(
+            0, kws::sentences().size() - 1)(rng_)];
+        const auto& voice =
+            voices[std::uniform_int_distribution<std::size_t>(0, voices.size() - 1)(rng_)];
+        const std::vector<float> s = kws::synthesize(text, voice, 170, 50);
+        for (std::size_t i = 0; i < s.size() && pos < samples; ++i) out[pos++] += s[i];
+        pos += 1600;
+      }
+    }
+    return out;
+  }
+
+  std::vector<std::vector<float>> recordings_;
+  std::mt19937_64& rng_;
+};
+
 // Real recordings: every file of the negative folders and the positive folder, shuffled, one
-// after another with 0.3..2.5 s pauses, over continuous background noise (--noise files, else
-// generated) at -50..-35 dBFS; each utterance at -18..-4 dBFS peak.
-Track build_real_track(const std::vector<std::vector<float>>& positives,
-                       const std::vector<std::vector<float>>& negatives,
-                       const std::vector<std::vector<float>>& noise_pool, std::mt19937_64& rng) {
-  std::vector<std::pair<const std::vector<float>*, bool>> items;
+// after another with 0.3..2.5 s pauses (2.8..5 s between two keywords), over continuous
+// background noise (Background) at -50..-35 dBFS; each utterance at -18..-4 dBFS peak.
+// A real recording on the track: its samples, file name and folder.
+struct Recording {
+  std::vector<float> audio;
+  std::string name, folder;
+};
+
+std::vector<Recording> read_recordings(const std::filesystem::path& folder) {
+  const std::vector<std::filesystem::path> files = sound_folder_files(folder, 0);
+  std::vector<std::vector<float>> audio = read_sound_folder(folder, 0);
+  std::vector<Recording> out;
+  for (std::size_t i = 0; i < files.size(); ++i)
+    out.push_back({std::move(audio[i]), files[i].filename().string(), folder.filename().string()});
+  return out;
+}
+
+Track build_real_track(const std::vector<Recording>& positives,
+                       const std::vector<Recording>& negatives, Background& background,
+                       std::mt19937_64& rng) {
+  std::vector<std::pair<const Recording*, bool>> items;
   for (const auto& p : positives) items.emplace_back(&p, true);
   for (const auto& n : negatives) items.emplace_back(&n, false);
   std::shuffle(items.begin(), items.end(), rng);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::size_t total = 16000;
   std::vector<std::size_t> gaps;
-  for (const auto& it : items) {
-    gaps.push_back(static_cast<std::size_t>((0.3f + 2.2f * u(rng)) * 16000.0f));
-    total += gaps.back() + it.first->size();
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    float pause = 0.3f + 2.2f * u(rng);
+    // Two keywords in a row are a new wake-up, not the same one said twice: at least 2.5 s
+    // apart, beyond the detectors' refractory period (2 s), in which a second detection
+    // would be suppressed and counted as a miss.
+    if (k > 0 && items[k].second && items[k - 1].second) pause += 2.5f;
+    gaps.push_back(static_cast<std::size_t>(pause * 16000.0f));
+    total += gaps.back() + items[k].first->audio.size();
   }
   Track t;
   t.audio.assign(total + 16000, 0.0f);
   for (std::size_t pos = 0; pos < t.audio.size();) {
-    const auto& n =
-        noise_pool[std::uniform_int_distribution<std::size_t>(0, noise_pool.size() - 1)(rng)];
+    const std::vector<float> n = background.next();
     const float level = db(-50.0f + 15.0f * u(rng)) / std::max(kws::rms(n), 1e-6f);
     for (std::size_t i = 0; i < n.size() && pos < t.audio.size(); ++i)
       t.audio[pos++] += level * n[i];
@@ -490,10 +585,11 @@ Track build_real_track(const std::vector<std::vector<float>>& positives,
   std::size_t pos = 16000;
   for (std::size_t k = 0; k < items.size(); ++k) {
     pos += gaps[k];
-    const auto& x = *items[k].first;
+    const Recording& r = *items[k].first;
+    const auto& x = r.audio;
     mix_in(t.audio, pos, x, -18.0f + 14.0f * u(rng));
-    Segment seg{static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + x.size()), "",
-                "real"};
+    Segment seg{static_cast<std::int64_t>(pos), static_cast<std::int64_t>(pos + x.size()), r.name,
+                r.folder};
     (items[k].second ? t.keywords : t.sentences).push_back(seg);
     pos += x.size();
   }
@@ -546,6 +642,9 @@ int main(int argc, char** argv) {
                  "embedding head: scores over the threshold in N consecutive 80 ms steps for a "
                  "detection; several values replay the one score log with each")
       ->capture_default_str();
+  app.add_option("--embedding-details", g_embedding_details,
+                 "at this threshold (first --embedding-consecutive, first head): miss rate per "
+                 "voice (real track: per folder), each missed keyword and each false accept");
   app.add_option("--positives", positives_dir,
                  "real recordings of the keyword (WAV/FLAC folder): evaluate on a track of real "
                  "recordings instead of held-out synthetic voices");
@@ -559,15 +658,18 @@ int main(int argc, char** argv) {
   if (!positives_dir.empty()) {
     try {
       std::mt19937_64 rng(seed);
-      const auto positives = read_sound_folder(positives_dir, 0);
-      std::vector<std::vector<float>> negatives;
+      const auto positives = read_recordings(positives_dir);
+      std::vector<Recording> negatives;
       for (const auto& d : negative_dirs) {
-        auto n = read_sound_folder(d, 0);
+        auto n = read_recordings(d);
         negatives.insert(negatives.end(), std::make_move_iterator(n.begin()),
                          std::make_move_iterator(n.end()));
       }
-      const auto noise_pool = kws::make_noise_pool(noise_dir, kws::heldout_voices(), rng);
-      const Track track = build_real_track(positives, negatives, noise_pool, rng);
+      std::vector<std::vector<float>> noise_recordings;
+      if (!noise_dir.empty())
+        noise_recordings = kws::make_noise_pool(noise_dir, kws::heldout_voices(), rng);
+      Background background(std::move(noise_recordings), rng);
+      const Track track = build_real_track(positives, negatives, background, rng);
       const std::vector<std::int16_t> pcm = marvin::audio::to_pcm16(track.audio);
       const double hours = static_cast<double>(pcm.size()) / 16000.0 / 3600.0;
       std::printf("real track: %.1f min, %zu keyword recordings (%s), %zu other recordings\n",
@@ -711,7 +813,9 @@ int main(int argc, char** argv) {
     if (details_threshold >= 0.0f) {
       const Score s =
           score(detection_ends(trace, smoothings.front(), details_threshold, refractory), track);
-      print_details(s, track, trace, details_threshold, smoothings.front());
+      print_details(s, track, score_log(trace),
+                    "threshold " + std::to_string(details_threshold) + ", smoothing " +
+                        std::to_string(smoothings.front()));
     }
     for (std::size_t i = 0; i < ps_runs.size(); ++i) {
       const Score s = score(ps_runs[i].get(), track);

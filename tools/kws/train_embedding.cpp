@@ -208,8 +208,19 @@ void room_and_microphone(std::vector<float>& x, float reverb_share, float band_s
 // voice), each with the room and microphone of the synthetic examples at the same shares.
 struct RealVariants {
   int variants = 1;
-  float reverb_share = 0.0f, band_share = 0.0f;
+  float reverb_share = 0.0f, band_share = 0.0f, dropout_share = 0.0f;
 };
+
+// With probability `share`, one or two stretches of dropped audio (drop_out) in the last
+// 1.3 s of `x`, where an example's keyword is. No random draw at share 0, so recipes without
+// dropouts make the examples they always made.
+void maybe_drop_out(std::vector<float>& x, float share, std::mt19937_64& rng) {
+  if (share <= 0.0f) return;
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  if (u(rng) >= share) return;
+  const std::size_t last = 20800;
+  kws::drop_out(x, x.size() > last ? x.size() - last : 0, u(rng) < 0.3f ? 2 : 1, rng);
+}
 
 // Recordings one after another, 0.2..1.5 s apart, over background noise at an SNR in
 // [-5, 10] dB (80 % of the time) or quiet, each at -18..-2 dBFS peak.
@@ -224,6 +235,7 @@ std::vector<float> real_stream(const std::vector<std::vector<float>>& recordings
       if (variant > 0) {
         r = kws::change_speed_and_pitch(r, 0.85 + 0.3 * u(rng));
         room_and_microphone(r, how.reverb_share, how.band_share, rng);
+        maybe_drop_out(r, how.dropout_share, rng);
       }
       std::vector<float> piece(static_cast<std::size_t>((0.2f + 1.3f * u(rng)) * 16000.0f), 0.0f);
       const float g = level_gain(r, -18.0f + 16.0f * u(rng));
@@ -244,8 +256,8 @@ double head_seconds_since(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
-std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& folder,
-                                                  std::size_t limit) {
+std::vector<std::filesystem::path> sound_folder_files(const std::filesystem::path& folder,
+                                                      std::size_t limit) {
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::directory_iterator(folder)) {
     const std::string ext = e.path().extension().string();
@@ -256,9 +268,22 @@ std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& f
   }
   std::sort(files.begin(), files.end());
   if (limit > 0 && files.size() > limit) files.resize(limit);
+  return files;
+}
+
+std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& folder,
+                                                  std::size_t limit) {
   std::vector<std::vector<float>> out;
-  for (const auto& f : files) {
-    const std::vector<std::int16_t> pcm = marvin::audio::read_speech_file(f);
+  for (const auto& f : sound_folder_files(folder, limit)) {
+    marvin::audio::FlacDamage damage;
+    const std::vector<std::int16_t> pcm = marvin::audio::read_speech_file(f, &damage);
+    if (damage.errors > 0) {
+      std::fprintf(stderr,
+                   "%s: %d error(s) in the FLAC stream; %lld samples from sample %lld read as "
+                   "silence, the rest kept\n",
+                   f.c_str(), damage.errors, static_cast<long long>(damage.silenced_frames),
+                   static_cast<long long>(damage.first_frame));
+    }
     std::vector<float> x(pcm.size());
     for (std::size_t i = 0; i < pcm.size(); ++i) x[i] = static_cast<float>(pcm[i]) / 32768.0f;
     out.push_back(kws::trim_silence(x));
@@ -283,7 +308,7 @@ int train_embedding_main(int argc, char** argv) {
   double mine_minutes = 0.0;
   float mine_floor = 0.1f;
   int mine_copies = 1;
-  float flite_share = 0.0f, reverb_share = 0.0f, band_share = 0.0f;
+  float flite_share = 0.0f, reverb_share = 0.0f, band_share = 0.0f, dropout_share = 0.0f;
   int generated_voices = 0, real_variants = 1;
   float quiet_share = 0.2f;
   std::string voices_dir;
@@ -330,6 +355,10 @@ int train_embedding_main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--band-limit", band_share,
                  "share of the synthesised examples heard through a cheap microphone")
+      ->capture_default_str();
+  app.add_option("--dropouts", dropout_share,
+                 "share of the synthesised examples (and of the faster/slower --mine-dir "
+                 "renditions) with 50..300 ms of dropped audio (digital silence) in the word")
       ->capture_default_str();
   app.add_option("--noise-examples", noise_examples, "background-noise-only examples")
       ->capture_default_str();
@@ -450,11 +479,12 @@ int train_embedding_main(int argc, char** argv) {
         raw.push_back(place({}, nullptr, 0.0f, noise_pool, quiet_share, rng));
       std::printf("%d other-speech and %d noise examples synthesised (%.0f s)\n", negatives,
                   noise_examples, head_seconds_since(start));
-      // The room and the microphone, for keyword and other speech alike (so that neither
-      // becomes a cue).
+      // The room, the microphone and dropped audio, for keyword and other speech alike (so
+      // that none of them becomes a cue).
       for (RawExample& ex : raw) {
         room_and_microphone(ex.audio, reverb_share, band_share, rng);
         for (float& v : ex.audio) v = std::clamp(v, -1.0f, 1.0f);
+        maybe_drop_out(ex.audio, dropout_share, rng);
       }
       for (const auto& dir : negative_dirs) {
         const auto recordings = read_sound_folder(dir, 0);
@@ -487,8 +517,9 @@ int train_embedding_main(int argc, char** argv) {
                              kws::negative_speech(mine_minutes * 60.0, voices, noise_pool, rng));
       }
       for (const auto& dir : mine_dirs) {
-        streams.emplace_back(dir, real_stream(read_sound_folder(dir, 0), noise_pool,
-                                              {real_variants, reverb_share, band_share}, rng));
+        streams.emplace_back(
+            dir, real_stream(read_sound_folder(dir, 0), noise_pool,
+                             {real_variants, reverb_share, band_share, dropout_share}, rng));
       }
       for (const auto& [name, audio] : streams) {
         const MineResult m = mine_stream(audio, models, mine_head, mine_floor);

@@ -26,7 +26,8 @@ std::string lower_extension(const std::filesystem::path& path) {
 
 }  // namespace
 
-SoundBuffer read_sound_file(const std::filesystem::path& path) {
+SoundBuffer read_sound_file(const std::filesystem::path& path, FlacDamage* damage) {
+  if (damage) *damage = FlacDamage{};
   SF_INFO info{};
   SndfilePtr file(sf_open(path.c_str(), SFM_READ, &info));
   if (!file) {
@@ -41,13 +42,15 @@ SoundBuffer read_sound_file(const std::filesystem::path& path) {
   sound.channels = info.channels;
   sound.samples.resize(static_cast<std::size_t>(info.frames) * info.channels);
   const sf_count_t got = sf_readf_float(file.get(), sound.samples.data(), info.frames);
+  if (got < info.frames && (info.format & SF_FORMAT_TYPEMASK) == SF_FORMAT_FLAC)
+    return read_flac_salvaging(path, damage);
   if (got < 0) throw std::runtime_error("cannot read samples of " + path.string());
   sound.samples.resize(static_cast<std::size_t>(got) * info.channels);
   return sound;
 }
 
-std::vector<std::int16_t> read_speech_file(const std::filesystem::path& path) {
-  return to_pcm16(to_speech_format(read_sound_file(path)));
+std::vector<std::int16_t> read_speech_file(const std::filesystem::path& path, FlacDamage* damage) {
+  return to_pcm16(to_speech_format(read_sound_file(path, damage)));
 }
 
 void write_sound_file(const std::filesystem::path& path, const SoundBuffer& sound) {

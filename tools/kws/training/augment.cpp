@@ -212,6 +212,21 @@ void add_noise_at_snr(std::vector<float>& x, std::span<const float> noise, float
   for (std::size_t i = 0; i < x.size(); ++i) x[i] += gain * seg[i];
 }
 
+std::size_t drop_out(std::vector<float>& x, std::size_t from, int spans, std::mt19937_64& rng) {
+  std::size_t silenced = 0;
+  if (from >= x.size()) return 0;
+  std::uniform_int_distribution<std::size_t> where(from, x.size() - 1), length(800, 4800);
+  for (int s = 0; s < spans; ++s) {
+    const std::size_t begin = where(rng);
+    const std::size_t end = std::min(x.size(), begin + length(rng));
+    for (std::size_t i = begin; i < end; ++i) {
+      silenced += x[i] != 0.0f ? 1 : 0;
+      x[i] = 0.0f;
+    }
+  }
+  return silenced;
+}
+
 std::vector<float> trim_silence(std::span<const float> x, float threshold_db) {
   constexpr std::size_t frame = 320;
   float peak = 0.0f;

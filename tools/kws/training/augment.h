@@ -48,6 +48,11 @@ std::vector<float> add_reverb(std::span<const float> x, float rt60_s, float reve
 // `high_hz` (16 kHz), in place.
 void band_limit(std::vector<float>& x, float low_hz, float high_hz);
 
+// Dropped audio: `spans` stretches of 50..300 ms, each starting at a random sample in
+// [from, x.size()), set to digital silence, as when a microphone or a link loses frames (real
+// recordings have them). In place; returns how many samples it changed.
+std::size_t drop_out(std::vector<float>& x, std::size_t from, int spans, std::mt19937_64& rng);
+
 // Strips leading and trailing parts quieter than `threshold_db` below the peak (20 ms frames).
 std::vector<float> trim_silence(std::span<const float> x, float threshold_db = 40.0f);
 
