@@ -495,7 +495,7 @@ void print_all_best(const std::vector<std::string>& paths,
 class Background {
  public:
   Background(std::vector<std::vector<float>> recordings, std::mt19937_64& rng)
-      : recordings_(std::move(recordings)), rng_(rng) {}
+      : recordings_(std::move(recordings)), voices_(kws::heldout_voices()), rng_(rng) {}
 
   std::vector<float> next() {
     if (!recordings_.empty())
@@ -516,7 +516,6 @@ class Background {
 
  private:
   std::vector<float> babble(std::size_t samples) {
-    const std::vector<std::string> voices = kws::heldout_voices();
     std::vector<float> out(samples, 0.0f);
     for (int stream = 0; stream < 4; ++stream) {
       for (std::size_t pos = std::uniform_int_distribution<std::size_t>(0, 16000)(rng_);
@@ -524,7 +523,7 @@ class Background {
         const auto& text = kws::sentences()[std::uniform_int_distribution<std::size_t>(
             0, kws::sentences().size() - 1)(rng_)];
         const auto& voice =
-            voices[std::uniform_int_distribution<std::size_t>(0, voices.size() - 1)(rng_)];
+            voices_[std::uniform_int_distribution<std::size_t>(0, voices_.size() - 1)(rng_)];
         const std::vector<float> s = kws::synthesize(text, voice, 170, 50);
         for (std::size_t i = 0; i < s.size() && pos < samples; ++i) out[pos++] += s[i];
         pos += 1600;
@@ -534,12 +533,10 @@ class Background {
   }
 
   std::vector<std::vector<float>> recordings_;
+  std::vector<std::string> voices_;  // for the babble
   std::mt19937_64& rng_;
 };
 
-// Real recordings: every file of the negative folders and the positive folder, shuffled, one
-// after another with 0.3..2.5 s pauses (2.8..5 s between two keywords), over continuous
-// background noise (Background) at -50..-35 dBFS; each utterance at -18..-4 dBFS peak.
 // A real recording on the track: its samples, file name and folder.
 struct Recording {
   std::vector<float> audio;
@@ -547,14 +544,15 @@ struct Recording {
 };
 
 std::vector<Recording> read_recordings(const std::filesystem::path& folder) {
-  const std::vector<std::filesystem::path> files = sound_folder_files(folder, 0);
-  std::vector<std::vector<float>> audio = read_sound_folder(folder, 0);
   std::vector<Recording> out;
-  for (std::size_t i = 0; i < files.size(); ++i)
-    out.push_back({std::move(audio[i]), files[i].filename().string(), folder.filename().string()});
+  for (const auto& file : sound_folder_files(folder, 0))
+    out.push_back({read_recording(file), file.filename().string(), folder.filename().string()});
   return out;
 }
 
+// Real recordings: every file of the negative folders and the positive folder, shuffled, one
+// after another with 0.3..2.5 s pauses (2.8..5 s between two keywords), over continuous
+// background noise (Background) at -50..-35 dBFS; each utterance at -18..-4 dBFS peak.
 Track build_real_track(const std::vector<Recording>& positives,
                        const std::vector<Recording>& negatives, Background& background,
                        std::mt19937_64& rng) {

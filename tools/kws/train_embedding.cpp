@@ -271,23 +271,25 @@ std::vector<std::filesystem::path> sound_folder_files(const std::filesystem::pat
   return files;
 }
 
+std::vector<float> read_recording(const std::filesystem::path& file) {
+  marvin::audio::FlacDamage damage;
+  const std::vector<std::int16_t> pcm = marvin::audio::read_speech_file(file, &damage);
+  if (damage.errors > 0) {
+    std::fprintf(stderr,
+                 "%s: %d error(s) in the FLAC stream; %lld samples from sample %lld read as "
+                 "silence, the rest kept\n",
+                 file.c_str(), damage.errors, static_cast<long long>(damage.silenced_frames),
+                 static_cast<long long>(damage.first_frame));
+  }
+  std::vector<float> x(pcm.size());
+  for (std::size_t i = 0; i < pcm.size(); ++i) x[i] = static_cast<float>(pcm[i]) / 32768.0f;
+  return kws::trim_silence(x);
+}
+
 std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& folder,
                                                   std::size_t limit) {
   std::vector<std::vector<float>> out;
-  for (const auto& f : sound_folder_files(folder, limit)) {
-    marvin::audio::FlacDamage damage;
-    const std::vector<std::int16_t> pcm = marvin::audio::read_speech_file(f, &damage);
-    if (damage.errors > 0) {
-      std::fprintf(stderr,
-                   "%s: %d error(s) in the FLAC stream; %lld samples from sample %lld read as "
-                   "silence, the rest kept\n",
-                   f.c_str(), damage.errors, static_cast<long long>(damage.silenced_frames),
-                   static_cast<long long>(damage.first_frame));
-    }
-    std::vector<float> x(pcm.size());
-    for (std::size_t i = 0; i < pcm.size(); ++i) x[i] = static_cast<float>(pcm[i]) / 32768.0f;
-    out.push_back(kws::trim_silence(x));
-  }
+  for (const auto& f : sound_folder_files(folder, limit)) out.push_back(read_recording(f));
   return out;
 }
 

@@ -13,6 +13,10 @@ int train_embedding_main(int argc, char** argv);
 std::vector<std::filesystem::path> sound_folder_files(const std::filesystem::path& folder,
                                                       std::size_t limit);
 
-// Those files read as 16 kHz mono float in [-1, 1], leading and trailing silence trimmed.
+// One sound file as 16 kHz mono float in [-1, 1], leading and trailing silence trimmed. A FLAC
+// file with damaged frames is read with them silent, and stderr names it (flac_salvage.h).
+std::vector<float> read_recording(const std::filesystem::path& file);
+
+// The folder's sound_folder_files(), each read by read_recording().
 std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& folder,
                                                   std::size_t limit);

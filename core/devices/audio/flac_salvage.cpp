@@ -17,7 +17,6 @@ struct DecoderDeleter {
 struct Decoding {
   SoundBuffer sound;
   std::vector<bool> decoded;  // per sample frame: written by a good FLAC frame
-  std::uint64_t declared_frames = 0;
   unsigned bits = 16;
   unsigned block_size = 0;  // the stream's largest block
   int errors = 0;
@@ -67,9 +66,9 @@ void on_metadata(const FLAC__StreamDecoder*, const FLAC__StreamMetadata* m, void
   d->sound.channels = static_cast<int>(m->data.stream_info.channels);
   d->bits = m->data.stream_info.bits_per_sample;
   d->block_size = m->data.stream_info.max_blocksize;
-  d->declared_frames = m->data.stream_info.total_samples;
-  d->decoded.assign(d->declared_frames, false);
-  d->sound.samples.assign(d->declared_frames * m->data.stream_info.channels, 0.0f);
+  const std::uint64_t frames = m->data.stream_info.total_samples;  // 0: not known
+  d->decoded.assign(frames, false);
+  d->sound.samples.assign(frames * m->data.stream_info.channels, 0.0f);
 }
 
 // A damaged frame: count it. libFLAC then goes on at the next good frame, passing the
