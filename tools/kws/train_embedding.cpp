@@ -2,8 +2,10 @@
 // EmbeddingStream (as the detector hears it after a pause), of which the head sees the last 16
 // embeddings (1.28 s):
 // - positives: the keyword (espeak-ng, training voices, rate 110..230 wpm, pitch 20..80, half
-//   the time with its speed changed by 0.9..1.1) ending 0..240 ms before the example's end;
-//   half the time the end of another utterance 0.1..0.5 s before it;
+//   the time with its speed changed by 0.9..1.1) ending 0..240 ms before the example's end
+//   (--keyword-tail); half the time the end of another utterance 0.1..0.5 s before it, and in
+//   a share --keyword-after the start of one 0.1..0.3 s after it;
+// - late keywords (negatives): the keyword ended 0.21..0.96 s before the positives' latest end;
 // - negatives: the same with other words / sentence pieces / words that sound like the keyword
 //   in place of the keyword; real recordings of other words (--negatives-dir, each file
 //   `--real-copies` times); the keyword-free conversation of negative_speech(), cut into every
@@ -63,13 +65,16 @@ RawExample place(const std::vector<float>& word, const std::vector<float>* conte
   const float peak_db = -18.0f + 16.0f * u(rng);
   const auto tail =
       static_cast<std::size_t>((tail_min_s + (tail_max_s - tail_min_s) * u(rng)) * 16000.0f);
-  if (after != nullptr && !after->empty() && tail > 3200) {
-    // Speech after the word ("marvin, what time is it"), from 0.1..0.3 s after it.
-    const std::size_t begin =
-        kExampleSamples - tail + static_cast<std::size_t>((0.1f + 0.2f * u(rng)) * 16000.0f);
-    const float ga = level_gain(*after, peak_db - 4.0f + 6.0f * u(rng));
-    for (std::size_t i = 0; begin + i < kExampleSamples && i < after->size(); ++i)
-      ex.audio[begin + i] += ga * (*after)[i];
+  if (after != nullptr && !after->empty()) {
+    // Speech after the word ("marvin, what time is it"), from 0.1..0.3 s after it; none when
+    // the word ends closer than that to the window's end.
+    const auto gap = static_cast<std::size_t>((0.1f + 0.2f * u(rng)) * 16000.0f);
+    if (tail > gap) {
+      const std::size_t begin = kExampleSamples - tail + gap;
+      const float ga = level_gain(*after, peak_db - 4.0f + 6.0f * u(rng));
+      for (std::size_t i = 0; begin + i < kExampleSamples && i < after->size(); ++i)
+        ex.audio[begin + i] += ga * (*after)[i];
+    }
   }
   const std::size_t len = std::min(word.size(), kExampleSamples - tail - 1);
   const std::size_t start = kExampleSamples - tail - len;
@@ -300,6 +305,7 @@ int train_embedding_main(int argc, char** argv) {
   std::uint64_t seed = 1;
   int positives = 1500, negatives = 1500, noise_examples = 200, real_copies = 1, threads = 2;
   int late_keywords = 1000, conversation_stride = 1;
+  float keyword_tail = 0.24f, keyword_after = 0.0f;
   double negative_minutes = 10.0;
   float threshold = 0.5f, refractory = 2.0f;
   int consecutive = 1;
@@ -329,8 +335,19 @@ int train_embedding_main(int argc, char** argv) {
   app.add_option("--negative-minutes", negative_minutes,
                  "minutes of keyword-free synthetic conversation, cut into windows")
       ->capture_default_str();
+  app.add_option("--keyword-tail", keyword_tail,
+                 "keyword examples end 0..S seconds before the window's end (how long after "
+                 "the word the head must still say yes)")
+      ->check(CLI::Range(0.0f, 0.6f))
+      ->capture_default_str();
+  app.add_option("--keyword-after", keyword_after,
+                 "share of the keyword examples with other speech 0.1..0.3 s after the word "
+                 "(\"marvin, what time is it\")")
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->capture_default_str();
   app.add_option("--late-keywords", late_keywords,
-                 "negatives where the keyword ended 0.45..1.2 s before the window's end")
+                 "negatives where the keyword ended 0.21..0.96 s longer ago than --keyword-tail "
+                 "allows (0.45..1.2 s before the window's end at the default tail)")
       ->capture_default_str();
   app.add_option("--conversation-stride", conversation_stride,
                  "take every N-th window of the conversation")
@@ -453,14 +470,21 @@ int train_embedding_main(int argc, char** argv) {
       for (int k = 0; k < positives; ++k) {
         const std::vector<float> w = say_keyword();
         const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
-        raw.push_back(place(w, &ctx, 1.0f, noise_pool, quiet_share, rng));
+        // Drawn only when asked for, so that the default recipe's random draws stay as they were.
+        const std::vector<float> after = keyword_after > 0.0f && u(rng) < keyword_after
+                                             ? say(other_text())
+                                             : std::vector<float>{};
+        raw.push_back(
+            place(w, &ctx, 1.0f, noise_pool, quiet_share, rng, 0.0f, keyword_tail, &after));
       }
-      // The keyword heard too long ago (it ended 0.45..1.2 s before), alone or followed by a
-      // command: not a detection now, or a keyword followed by speech fires twice.
+      // The keyword heard too long ago (it ended 0.21..0.96 s before the positives' latest end),
+      // alone or followed by a command: not a detection now, or a keyword followed by speech
+      // fires twice.
       for (int k = 0; k < late_keywords; ++k) {
         const std::vector<float> w = say_keyword();
         const std::vector<float> after = u(rng) < 0.7f ? say(other_text()) : std::vector<float>{};
-        raw.push_back(place(w, nullptr, 0.0f, noise_pool, quiet_share, rng, 0.45f, 1.2f, &after));
+        raw.push_back(place(w, nullptr, 0.0f, noise_pool, quiet_share, rng, keyword_tail + 0.21f,
+                            keyword_tail + 0.96f, &after));
       }
       std::printf("%d keyword examples, %d late-keyword examples synthesised (%.0f s)\n", positives,
                   late_keywords, head_seconds_since(start));
