@@ -52,11 +52,16 @@ float level_gain(const std::vector<float>& x, float peak_db) {
   return std::pow(10.0f, peak_db / 20.0f) / std::max(peak, 1e-6f);
 }
 
+// Words in examples end 0..kDefaultTailS seconds before the window's end (the keyword's own
+// range is --keyword-tail); late keywords end kLateKeywordFromS..kLateKeywordToS further back.
+constexpr float kDefaultTailS = 0.24f;
+constexpr float kLateKeywordFromS = 0.21f, kLateKeywordToS = 0.96f;
+
 // Places `word` to end `tail` samples before the end of an example, with optional context
 // before it, over noise.
 RawExample place(const std::vector<float>& word, const std::vector<float>* context, float label,
                  const std::vector<std::vector<float>>& noise_pool, float quiet_share,
-                 std::mt19937_64& rng, float tail_min_s = 0.0f, float tail_max_s = 0.24f,
+                 std::mt19937_64& rng, float tail_min_s = 0.0f, float tail_max_s = kDefaultTailS,
                  const std::vector<float>* after = nullptr) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   RawExample ex;
@@ -305,7 +310,7 @@ int train_embedding_main(int argc, char** argv) {
   std::uint64_t seed = 1;
   int positives = 1500, negatives = 1500, noise_examples = 200, real_copies = 1, threads = 2;
   int late_keywords = 1000, conversation_stride = 1;
-  float keyword_tail = 0.24f, keyword_after = 0.0f;
+  float keyword_tail = kDefaultTailS, keyword_after = 0.0f;
   double negative_minutes = 10.0;
   float threshold = 0.5f, refractory = 2.0f;
   int consecutive = 1;
@@ -483,8 +488,9 @@ int train_embedding_main(int argc, char** argv) {
       for (int k = 0; k < late_keywords; ++k) {
         const std::vector<float> w = say_keyword();
         const std::vector<float> after = u(rng) < 0.7f ? say(other_text()) : std::vector<float>{};
-        raw.push_back(place(w, nullptr, 0.0f, noise_pool, quiet_share, rng, keyword_tail + 0.21f,
-                            keyword_tail + 0.96f, &after));
+        raw.push_back(place(w, nullptr, 0.0f, noise_pool, quiet_share, rng,
+                            keyword_tail + kLateKeywordFromS, keyword_tail + kLateKeywordToS,
+                            &after));
       }
       std::printf("%d keyword examples, %d late-keyword examples synthesised (%.0f s)\n", positives,
                   late_keywords, head_seconds_since(start));
