@@ -43,8 +43,10 @@ std::vector<perception::WakeWordDetection> detections(const std::vector<std::int
 }  // namespace
 
 TEST_CASE("the shipped embedding head is small and for \"marvin\"") {
+  // Five heads of 32 hidden units merged into one (1.04 MiB); the cap catches a head far bigger
+  // than that by mistake (1024 hidden units would be 10 MiB).
   CHECK(std::filesystem::file_size(std::filesystem::path(MARVIN_TEST_SOURCE_DIR) /
-                                   "models/marvin-embedding-head.bin") < 300 * 1024);
+                                   "models/marvin-embedding-head.bin") < 1280 * 1024);
   CHECK(shipped_head().keyword == "marvin");
 }
 

@@ -4,6 +4,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -169,6 +170,49 @@ TEST_CASE("head training learns a toy problem and is deterministic for a seed") 
   CHECK(again.b3 == head.b3);
   options.seed = 6;
   CHECK(kws::train_head(train, options).w1 != head.w1);
+}
+
+TEST_CASE("merged heads score the sigmoid of the members' mean logit; mismatches are refused") {
+  std::mt19937_64 rng(21);
+  std::normal_distribution<float> small(0.0f, 0.05f);
+  auto random_head = [&](int hidden) {
+    kws::EmbeddingHead h;
+    h.resize(hidden);
+    for (auto* w : {&h.w1, &h.b1, &h.w2, &h.b2, &h.w3}) {
+      for (float& x : *w) x = small(rng);
+    }
+    h.b3 = small(rng) * 20.0f;
+    return h;
+  };
+  std::vector<kws::EmbeddingHead> members = {random_head(8), random_head(5), random_head(8)};
+  members.front().threshold = 0.9f;
+  members.front().consecutive = 3;
+  const kws::EmbeddingHead merged = kws::merge_heads(members);
+  CHECK(merged.hidden == 21);
+  CHECK(merged.keyword == "marvin");
+  CHECK(merged.threshold == 0.9f);
+  CHECK(merged.consecutive == 3);
+  auto logit = [](float p) { return std::log(p / (1.0f - p)); };
+  std::normal_distribution<float> input(0.0f, 1.0f);
+  std::vector<float> x(kws::kHeadInputs);
+  for (int trial = 0; trial < 5; ++trial) {
+    for (float& v : x) v = input(rng);
+    float mean = 0.0f;
+    for (const auto& m : members) mean += logit(m.score(x)) / 3.0f;
+    INFO("trial ", trial, ": members' mean logit ", mean);
+    CHECK(logit(merged.score(x)) == doctest::Approx(mean).epsilon(1e-4));
+  }
+  // A merged head is an ordinary head: it round-trips through the file format.
+  CHECK(kws::parse_head(kws::serialize_head(merged), "m.bin").w2 == merged.w2);
+
+  members[1].keyword = "alexa";
+  CHECK_THROWS_WITH_AS(kws::merge_heads(members),
+                       "merge_heads: heads for \"marvin\" and \"alexa\" cannot be merged",
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(kws::merge_heads({random_head(600), random_head(600)}),
+                       "merge_heads: 1200 hidden units together, a head holds at most 1024",
+                       std::invalid_argument);
+  CHECK_THROWS_AS(kws::merge_heads({}), std::invalid_argument);
 }
 
 TEST_CASE("raising the negatives' weight over the epochs trades misses for fewer false accepts") {

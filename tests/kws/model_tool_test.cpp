@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include "perception/kws/embedding_head.h"
 #include "perception/kws/model_file.h"
@@ -161,4 +162,52 @@ TEST_CASE("marvin-kws-model refuses settings that do not fit the file and writes
   CHECK_FALSE(fs::exists(out));
   CHECK(bytes_of(head) == head_before);
   CHECK(bytes_of(cnn) == cnn_before);
+}
+
+TEST_CASE("marvin-kws-model merges embedding heads into one, and refuses what cannot be merged") {
+  TempDir dir;
+  auto head = [](const std::string& keyword, float scale) {
+    kws::EmbeddingHead h;
+    h.keyword = keyword;
+    h.resize(4);
+    for (std::size_t i = 0; i < h.w1.size(); ++i)
+      h.w1[i] = scale * 0.001f * static_cast<float>(i % 89);
+    h.w3.assign(4, scale);
+    return h;
+  };
+  const fs::path a = dir.path / "a.bin", b = dir.path / "b.bin", other = dir.path / "alexa.bin",
+                 out = dir.path / "merged.bin";
+  kws::save_head(a, head("marvin", 1.0f));
+  kws::save_head(b, head("marvin", -0.5f));
+  kws::save_head(other, head("alexa", 1.0f));
+  const Run ok = run_tool(a.string() + " " + b.string() +
+                          " --threshold 0.9 --consecutive 3 --out " + out.string());
+  INFO(ok.output);
+  REQUIRE(ok.status == 0);
+  const kws::EmbeddingHead merged = kws::load_head(out);
+  CHECK(merged.hidden == 8);
+  CHECK(merged.threshold == doctest::Approx(0.9f));
+  CHECK(merged.consecutive == 3);
+  CHECK(merged.w3 == std::vector<float>{0.5f, 0.5f, 0.5f, 0.5f, -0.25f, -0.25f, -0.25f, -0.25f});
+  CHECK(ok.output.find("2 heads merged: embedding head for \"marvin\", hidden 8") !=
+        std::string::npos);
+  fs::remove(out);
+
+  const std::string a_before = bytes_of(a);
+  Run r = run_tool(a.string() + " " + other.string() + " --out " + out.string());
+  CHECK(r.status == 1);
+  CHECK(r.output.find("heads for \"marvin\" and \"alexa\" cannot be merged") != std::string::npos);
+  r = run_tool(a.string() + " " + b.string());
+  CHECK(r.status == 1);
+  CHECK(r.output.find("merging heads needs --out") != std::string::npos);
+  kws::KwsModel m;
+  m.network = kws::make_initialised_network(7);
+  const fs::path cnn = dir.path / "cnn.bin";
+  kws::save_model(cnn, m, kws::WeightType::float32);
+  r = run_tool(a.string() + " " + cnn.string() + " --out " + out.string());
+  CHECK(r.status == 1);
+  CHECK(r.output.find("cnn.bin: not an embedding head; only heads can be merged") !=
+        std::string::npos);
+  CHECK_FALSE(fs::exists(out));
+  CHECK(bytes_of(a) == a_before);
 }

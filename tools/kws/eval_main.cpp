@@ -347,6 +347,26 @@ std::vector<std::int64_t> embedding_ends(const ScoreLog& log, float threshold, f
   return ends;
 }
 
+// Replays a threshold on the mean of the last `steps` scores instead (a dip in one step does
+// not reset it as it resets a run of consecutive scores).
+std::vector<std::int64_t> embedding_mean_ends(const ScoreLog& log, float threshold,
+                                              float refractory_s, int steps) {
+  std::vector<std::int64_t> ends;
+  const auto refractory = static_cast<std::int64_t>(refractory_s * 16000.0f);
+  for (std::size_t i = static_cast<std::size_t>(steps) - 1; i < log.size(); ++i) {
+    float sum = 0.0f;
+    for (std::size_t k = i + 1 - static_cast<std::size_t>(steps); k <= i; ++k) sum += log[k].second;
+    const std::int64_t end = log[i].first;
+    if (sum >= threshold * static_cast<float>(steps) &&
+        (ends.empty() || end - ends.back() >= refractory))
+      ends.push_back(end);
+  }
+  return ends;
+}
+
+// --embedding-mean-steps: also replay thresholds on the mean of this many scores.
+std::vector<int> g_embedding_mean_steps;
+
 // --embedding-consecutive: the step counts to replay (1 = every score on its own).
 std::vector<int> g_embedding_consecutive = {1};
 // --embedding-details: the threshold to show the first head's misses and false accepts at
@@ -356,7 +376,8 @@ float g_embedding_details = -1.0f;
 struct EvalRow {
   double miss, fah;
   float setting;
-  int consecutive = 1;
+  int consecutive = 1;  // steps in a row over the threshold, or with `mean`, steps averaged
+  bool mean = false;
 };
 
 void print_embedding_rows(const ScoreLog& log, const Track& track,
@@ -374,6 +395,16 @@ void print_embedding_rows(const ScoreLog& log, const Track& track,
       std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", name, static_cast<double>(th),
                   100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
       rows.push_back({s.miss_rate(), s.false_accepts / hours, th, n});
+    }
+  }
+  for (int n : g_embedding_mean_steps) {
+    char name[64];
+    std::snprintf(name, sizeof name, "embedding head mean %d", n);
+    for (float th : thresholds) {
+      const Score s = score(embedding_mean_ends(log, th, refractory_s, n), track);
+      std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", name, static_cast<double>(th),
+                  100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
+      rows.push_back({s.miss_rate(), s.false_accepts / hours, th, n, true});
     }
   }
 }
@@ -407,9 +438,9 @@ void print_best(const char* name, const std::vector<EvalRow>& rows) {
     if (r.fah < 1.0 && (!best || r.miss < best->miss)) best = &r;
   }
   if (best) {
-    std::printf("  %-13s setting %.3f, %d consecutive: miss %.2f%%, %.2f FA/h\n", name,
-                static_cast<double>(best->setting), best->consecutive, 100.0 * best->miss,
-                best->fah);
+    std::printf("  %-13s setting %.3f, %d %s: miss %.2f%%, %.2f FA/h\n", name,
+                static_cast<double>(best->setting), best->consecutive,
+                best->mean ? "scores' mean" : "consecutive", 100.0 * best->miss, best->fah);
   } else {
     std::printf("  %-13s none of the settings stays under 1 FA/h\n", name);
   }
@@ -640,6 +671,9 @@ int main(int argc, char** argv) {
                  "embedding head: scores over the threshold in N consecutive 80 ms steps for a "
                  "detection; several values replay the one score log with each")
       ->capture_default_str();
+  app.add_option("--embedding-mean-steps", g_embedding_mean_steps,
+                 "also replay each threshold on the mean of this many consecutive scores")
+      ->check(CLI::Range(1, 10));
   app.add_option("--embedding-details", g_embedding_details,
                  "at this threshold (first --embedding-consecutive, first head): miss rate per "
                  "voice (real track: per folder), each missed keyword and each false accept");

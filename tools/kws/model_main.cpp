@@ -6,17 +6,24 @@
 //   models/marvin-kws.bin
 //   marvin-kws-model head.bin --threshold 0.5 --consecutive 3 --out
 //   models/marvin-embedding-head.bin
+//   marvin-kws-model a.bin b.bin c.bin --threshold 0.95 --consecutive 3 --out merged.bin
+//
+// Several embedding heads are merged into one that scores the sigmoid of their mean logit
+// (merge_heads in tools/kws/training/head_trainer.h); the first one's settings are the start.
 //
 // The weights (and int8 scales) are copied as they are, so a model keeps the accuracy that
 // was measured; only the decision settings that marvin-kws-eval chose change.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
+#include "kws/training/head_trainer.h"
 #include "perception/kws/embedding_head.h"
 #include "perception/kws/model_file.h"
 
@@ -31,11 +38,16 @@ bool is_head_file(const std::string& path) {
   return in.gcount() == 8 && std::memcmp(magic, "MRVNKWE", 8) == 0;
 }
 
-// An embedding head: threshold, refractory period and consecutive steps.
-void set_head_defaults(const std::string& path, std::optional<float> threshold,
+// Embedding heads (one, or several merged into one): threshold, refractory period and
+// consecutive steps.
+void set_head_defaults(const std::vector<std::string>& paths, std::optional<float> threshold,
                        std::optional<float> refractory, std::optional<int> consecutive,
                        const std::string& out) {
-  kws::EmbeddingHead head = kws::load_head(path);
+  std::vector<kws::EmbeddingHead> members;
+  for (const auto& p : paths) members.push_back(kws::load_head(p));
+  kws::EmbeddingHead head = members.size() == 1 ? members.front() : kws::merge_heads(members);
+  const std::string path =
+      members.size() == 1 ? paths.front() : std::to_string(members.size()) + " heads merged";
   auto show = [&head](const std::string& name) {
     std::printf("%s: embedding head for \"%s\", hidden %d\n", name.c_str(), head.keyword.c_str(),
                 head.hidden);
@@ -57,10 +69,13 @@ void set_head_defaults(const std::string& path, std::optional<float> threshold,
 
 int main(int argc, char** argv) {
   CLI::App app{"Show a keyword-spotting model and set its detection defaults"};
-  std::string path, out;
+  std::vector<std::string> paths;
+  std::string out;
   std::optional<float> threshold, refractory;
   std::optional<int> smoothing, consecutive;
-  app.add_option("model", path, "model file")->required();
+  app.add_option("model", paths,
+                 "model file; several embedding heads are merged into one (needs --out)")
+      ->required();
   app.add_option("--threshold", threshold, "threshold on the smoothed keyword posterior, (0, 1)");
   app.add_option("--smoothing", smoothing, "keyword posteriors averaged, 1..64 windows");
   app.add_option("--refractory", refractory, "seconds without a second detection, 0..10");
@@ -90,13 +105,23 @@ int main(int argc, char** argv) {
       throw std::runtime_error(
           "--threshold/--smoothing/--refractory/--consecutive need --out (the file to write)");
     }
+    const std::string& path = paths.front();
+    if (paths.size() > 1) {
+      for (const auto& p : paths) {
+        // (A missing file is load_head's to report.)
+        if (std::filesystem::exists(p) && !is_head_file(p)) {
+          throw std::runtime_error(p + ": not an embedding head; only heads can be merged");
+        }
+      }
+      if (out.empty()) throw std::runtime_error("merging heads needs --out (the file to write)");
+    }
     if (is_head_file(path)) {
       if (smoothing) {
         throw std::runtime_error(
             "--smoothing is the cnn spotter's; an embedding head takes "
             "--consecutive");
       }
-      set_head_defaults(path, threshold, refractory, consecutive, out);
+      set_head_defaults(paths, threshold, refractory, consecutive, out);
       return 0;
     }
     if (consecutive) {

@@ -7,9 +7,10 @@
 //   a share --keyword-after the start of one 0.1..0.3 s after it;
 // - late keywords (negatives): the keyword ended 0.21..0.96 s before the positives' latest end;
 // - negatives: the same with other words / sentence pieces / words that sound like the keyword
-//   in place of the keyword; real recordings of other words (--negatives-dir, each file
-//   `--real-copies` times); the keyword-free conversation of negative_speech(), cut into every
-//   second window of 16 embeddings; pure background noise;
+//   in place of the keyword, and real recordings of other words (--negatives-dir, each file
+//   `--real-copies` times), ending 0..240 ms before the example's end (--negative-tail); the
+//   keyword-free conversation of negative_speech(), cut into every second window of 16
+//   embeddings; pure background noise;
 // - everything over background noise (the noise pool) at an SNR in [-5, 10] dB (80 %; see
 //   --quiet-share), else a quiet floor or digital silence, at a peak level of -18..-2 dBFS.
 // Synthesis runs on one thread (espeak-ng keeps global state); embedding on --threads.
@@ -310,7 +311,7 @@ int train_embedding_main(int argc, char** argv) {
   std::uint64_t seed = 1;
   int positives = 1500, negatives = 1500, noise_examples = 200, real_copies = 1, threads = 2;
   int late_keywords = 1000, conversation_stride = 1;
-  float keyword_tail = kDefaultTailS, keyword_after = 0.0f;
+  float keyword_tail = kDefaultTailS, keyword_after = 0.0f, negative_tail = kDefaultTailS;
   double negative_minutes = 10.0;
   float threshold = 0.5f, refractory = 2.0f;
   int consecutive = 1;
@@ -349,6 +350,11 @@ int train_embedding_main(int argc, char** argv) {
                  "share of the keyword examples with other speech 0.1..0.3 s after the word "
                  "(\"marvin, what time is it\")")
       ->check(CLI::Range(0.0f, 1.0f))
+      ->capture_default_str();
+  app.add_option("--negative-tail", negative_tail,
+                 "other words and the real recordings end 0..S seconds before the window's end "
+                 "(--keyword-tail's value makes a word's distance from the end no cue)")
+      ->check(CLI::Range(0.0f, 0.6f))
       ->capture_default_str();
   app.add_option("--late-keywords", late_keywords,
                  "negatives where the keyword ended 0.21..0.96 s longer ago than --keyword-tail "
@@ -505,7 +511,7 @@ int train_embedding_main(int argc, char** argv) {
                                  w.begin() + static_cast<std::ptrdiff_t>(at + n));
         }
         const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
-        raw.push_back(place(w, &ctx, 0.0f, noise_pool, quiet_share, rng));
+        raw.push_back(place(w, &ctx, 0.0f, noise_pool, quiet_share, rng, 0.0f, negative_tail));
       }
       for (int k = 0; k < noise_examples; ++k)
         raw.push_back(place({}, nullptr, 0.0f, noise_pool, quiet_share, rng));
@@ -522,7 +528,8 @@ int train_embedding_main(int argc, char** argv) {
         const auto recordings = read_sound_folder(dir, 0);
         for (int c = 0; c < real_copies; ++c) {
           for (const auto& r : recordings)
-            raw.push_back(place(r, nullptr, 0.0f, noise_pool, quiet_share, rng));
+            raw.push_back(
+                place(r, nullptr, 0.0f, noise_pool, quiet_share, rng, 0.0f, negative_tail));
         }
         real += recordings.size() * static_cast<std::size_t>(real_copies);
         std::printf("%zu real recordings from %s\n", recordings.size(), dir.c_str());

@@ -3,7 +3,8 @@
 // likely the keyword just ended. Trained by tools/kws (marvin-kws-train --embedding).
 //
 // Network: flatten 16 x 96 -> dense `hidden` + ReLU -> dense `hidden` + ReLU -> dense 1 ->
-// sigmoid (openWakeWord's default head shape, without its layer norms).
+// sigmoid (openWakeWord's default head shape, without its layer norms). Several trained heads
+// merged into one (tools/kws merge_heads(): their mean logit) are such a network, only wider.
 //
 // File format, version 2 (little-endian; u32 = uint32, f32 = IEEE float):
 //

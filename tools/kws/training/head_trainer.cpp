@@ -159,6 +159,41 @@ EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options) 
   return head;
 }
 
+EmbeddingHead merge_heads(const std::vector<EmbeddingHead>& members) {
+  if (members.empty()) throw std::invalid_argument("merge_heads: no heads to merge");
+  std::size_t total = 0;
+  for (const EmbeddingHead& m : members) {
+    if (m.keyword != members.front().keyword) {
+      throw std::invalid_argument("merge_heads: heads for \"" + members.front().keyword +
+                                  "\" and \"" + m.keyword + "\" cannot be merged");
+    }
+    total += static_cast<std::size_t>(m.hidden);
+  }
+  if (total > 1024) {
+    throw std::invalid_argument("merge_heads: " + std::to_string(total) +
+                                " hidden units together, a head holds at most 1024");
+  }
+  EmbeddingHead out = members.front();
+  out.resize(static_cast<int>(total));
+  const float share = 1.0f / static_cast<float>(members.size());
+  out.b3 = 0.0f;
+  std::size_t at = 0;  // the member's first unit in the merged layers
+  for (const EmbeddingHead& m : members) {
+    const auto h = static_cast<std::size_t>(m.hidden);
+    std::copy(m.w1.begin(), m.w1.end(),
+              out.w1.begin() + static_cast<std::ptrdiff_t>(at * kHeadInputs));
+    for (std::size_t o = 0; o < h; ++o) {
+      out.b1[at + o] = m.b1[o];
+      out.b2[at + o] = m.b2[o];
+      out.w3[at + o] = m.w3[o] * share;
+      for (std::size_t i = 0; i < h; ++i) out.w2[(at + o) * total + at + i] = m.w2[o * h + i];
+    }
+    out.b3 += m.b3 * share;
+    at += h;
+  }
+  return out;
+}
+
 HeadAccuracy head_accuracy(const EmbeddingHead& head, const HeadSet& set, float threshold) {
   std::size_t pos = 0, pos_ok = 0, neg = 0, neg_ok = 0;
   for (std::size_t k = 0; k < set.size(); ++k) {

@@ -48,6 +48,14 @@ HeadSet load_head_set(const std::filesystem::path& path);
 
 EmbeddingHead train_head(const HeadSet& train, const HeadTrainOptions& options);
 
+// One head whose score is the sigmoid of the members' mean logit (an ensemble of heads trained
+// with different seeds or data: their chance false accepts differ, a keyword scores high in all
+// of them). Exact, in the same file format: the hidden layers side by side, the second one
+// block-diagonal, the output weights divided by the number of members. Keyword and detection
+// settings are the first member's. Throws std::invalid_argument when there are no members,
+// their keywords differ, or their hidden units add up to more than the format's 1024.
+EmbeddingHead merge_heads(const std::vector<EmbeddingHead>& members);
+
 struct HeadAccuracy {
   double positives = 0.0;  // fraction of positives scored >= threshold
   double negatives = 0.0;  // fraction of negatives scored < threshold
