@@ -332,34 +332,23 @@ ScoreLog embedding_scores(const kws::EmbeddingHead& head, const std::vector<std:
   return log;
 }
 
-// Replays threshold, the number of consecutive 80 ms scores that must reach it, and the
-// refractory period over the score log.
+// Replays threshold, the number of consecutive 80 ms scores that must reach it (or with
+// `mean`, the number of scores whose mean must reach it: a dip in one step does not reset a
+// mean as it resets a run), and the refractory period over the score log.
 std::vector<std::int64_t> embedding_ends(const ScoreLog& log, float threshold, float refractory_s,
-                                         int consecutive) {
+                                         int steps, bool mean = false) {
   std::vector<std::int64_t> ends;
   const auto refractory = static_cast<std::int64_t>(refractory_s * 16000.0f);
+  const auto n = static_cast<std::size_t>(steps);
   int run = 0;
-  for (const auto& [end, score] : log) {
+  float sum = 0.0f;  // of the last `steps` scores
+  for (std::size_t i = 0; i < log.size(); ++i) {
+    const auto& [end, score] = log[i];
     run = score >= threshold ? run + 1 : 0;
-    if (run >= consecutive && (ends.empty() || end - ends.back() >= refractory))
-      ends.push_back(end);
-  }
-  return ends;
-}
-
-// Replays a threshold on the mean of the last `steps` scores instead (a dip in one step does
-// not reset it as it resets a run of consecutive scores).
-std::vector<std::int64_t> embedding_mean_ends(const ScoreLog& log, float threshold,
-                                              float refractory_s, int steps) {
-  std::vector<std::int64_t> ends;
-  const auto refractory = static_cast<std::int64_t>(refractory_s * 16000.0f);
-  for (std::size_t i = static_cast<std::size_t>(steps) - 1; i < log.size(); ++i) {
-    float sum = 0.0f;
-    for (std::size_t k = i + 1 - static_cast<std::size_t>(steps); k <= i; ++k) sum += log[k].second;
-    const std::int64_t end = log[i].first;
-    if (sum >= threshold * static_cast<float>(steps) &&
-        (ends.empty() || end - ends.back() >= refractory))
-      ends.push_back(end);
+    sum += score - (i >= n ? log[i - n].second : 0.0f);
+    const bool fires =
+        mean ? i + 1 >= n && sum >= threshold * static_cast<float>(steps) : run >= steps;
+    if (fires && (ends.empty() || end - ends.back() >= refractory)) ends.push_back(end);
   }
   return ends;
 }
@@ -383,28 +372,23 @@ struct EvalRow {
 void print_embedding_rows(const ScoreLog& log, const Track& track,
                           const std::vector<float>& thresholds, float refractory_s, double hours,
                           std::vector<EvalRow>& rows) {
-  for (int n : g_embedding_consecutive) {
+  std::vector<std::pair<int, bool>> rules;  // (steps, mean)
+  for (int n : g_embedding_consecutive) rules.emplace_back(n, false);
+  for (int n : g_embedding_mean_steps) rules.emplace_back(n, true);
+  for (const auto& [n, mean] : rules) {
     char name[64];
-    if (n == 1) {
+    if (mean) {
+      std::snprintf(name, sizeof name, "embedding head mean %d", n);
+    } else if (n == 1) {
       std::snprintf(name, sizeof name, "embedding head");
     } else {
       std::snprintf(name, sizeof name, "embedding head %d steps", n);
     }
     for (float th : thresholds) {
-      const Score s = score(embedding_ends(log, th, refractory_s, n), track);
+      const Score s = score(embedding_ends(log, th, refractory_s, n, mean), track);
       std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", name, static_cast<double>(th),
                   100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
-      rows.push_back({s.miss_rate(), s.false_accepts / hours, th, n});
-    }
-  }
-  for (int n : g_embedding_mean_steps) {
-    char name[64];
-    std::snprintf(name, sizeof name, "embedding head mean %d", n);
-    for (float th : thresholds) {
-      const Score s = score(embedding_mean_ends(log, th, refractory_s, n), track);
-      std::printf("%-28s %9.3f %7.2f%% %6d %8.2f\n", name, static_cast<double>(th),
-                  100.0 * s.miss_rate(), s.false_accepts, s.false_accepts / hours);
-      rows.push_back({s.miss_rate(), s.false_accepts / hours, th, n, true});
+      rows.push_back({s.miss_rate(), s.false_accepts / hours, th, n, mean});
     }
   }
 }
