@@ -40,10 +40,18 @@ void VoiceLoop::reset_wake_word() {
   wake_word_base_ = samples_;
 }
 
-void VoiceLoop::start_listening(std::int64_t wake_sample) {
+void VoiceLoop::remember(std::span<const std::int16_t> heard) {
+  recent_.insert(recent_.end(), heard.begin(), heard.end());
+  if (recent_.size() > 2 * kMaxPreRollSamples) {
+    recent_.erase(recent_.begin(), recent_.end() - static_cast<std::ptrdiff_t>(kMaxPreRollSamples));
+  }
+}
+
+void VoiceLoop::start_listening(std::int64_t wake_sample, std::span<const std::int16_t> pre_roll) {
   turn_ = VoiceTurn{};
   turn_.wake_sample = wake_sample;
-  listen_start_ = samples_;
+  listen_start_ = samples_ - static_cast<std::int64_t>(pre_roll.size());
+  recent_.clear();
   endpointer_.reset();
   // Setting the grammar in use again costs nothing.
   if (wake_sample < 0 && !answer_grammar_.empty()) {
@@ -55,6 +63,15 @@ void VoiceLoop::start_listening(std::int64_t wake_sample) {
   answer_expected_ = false;
   recognizer_.begin();
   set_state(VoiceState::kListening);
+  if (pre_roll.empty()) return;
+  // Already heard, so neither emitted again nor counted in samples_. Half a second cannot
+  // hold a command and the silence after it, but end the turn if it did.
+  const std::int64_t before = endpointer_.samples_seen();
+  const EndpointState state = endpointer_.push(pre_roll);
+  recognizer_.feed(pre_roll.first(static_cast<std::size_t>(endpointer_.samples_seen() - before)));
+  if (state == EndpointState::kEnded || state == EndpointState::kTimedOut) {
+    complete_turn(state == EndpointState::kTimedOut, std::chrono::steady_clock::now());
+  }
 }
 
 void VoiceLoop::emit(std::size_t n) {
@@ -97,6 +114,7 @@ void VoiceLoop::feed(std::span<const std::int16_t> samples) {
     emit(n);
     detections_.clear();
     wake_word_.process(samples.first(n), detections_);
+    remember(samples.first(n));
     samples_ += static_cast<std::int64_t>(n);
     samples = samples.subspan(n);
     if (!detections_.empty()) {
@@ -107,7 +125,14 @@ void VoiceLoop::feed(std::span<const std::int16_t> samples) {
       }
       answer_expected_ = false;
       answer_grammar_.clear();
-      start_listening(wake_word_base_ + detections_.back().end_sample);
+      // The command began where the keyword ended, perhaps some steps ago.
+      const std::int64_t wake_end = wake_word_base_ + detections_.back().end_sample;
+      const auto back = static_cast<std::size_t>(std::clamp<std::int64_t>(
+          samples_ - wake_end, 0,
+          static_cast<std::int64_t>(std::min(recent_.size(), kMaxPreRollSamples))));
+      const std::vector<std::int16_t> pre_roll(recent_.end() - static_cast<std::ptrdiff_t>(back),
+                                               recent_.end());
+      start_listening(wake_end, pre_roll);
       continue;
     }
     if (was_speaking && !speaking()) after_speech();

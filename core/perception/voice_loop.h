@@ -34,6 +34,12 @@
 // it lines up with the recording. Without it, the sink receives only the reply samples,
 // each as its time comes (the rest of a reply at finish()).
 //
+// The command starts where the wake word ended, not where the detector became sure of it: a
+// detector may report a keyword some steps after its end (the embedding wake word at a low
+// sensitivity), and "Marvin, stop" said in one breath would otherwise reach the recognizer as
+// "-op". The loop keeps the last kMaxPreRollSamples of what it heard while awaiting and starts
+// the endpointer and the recognizer at the detection's end_sample.
+//
 // A question that gets no answer (the endpointer times out) is answered with an empty,
 // unmatched Recognition whose reason is "nothing said", so the asker can ask again or give
 // up; after the wake word, silence just returns to kAwaiting.
@@ -90,6 +96,9 @@ struct VoiceLoopOptions {
 
 class VoiceLoop {
  public:
+  // How far back before a detection the command may start (0.5 s).
+  static constexpr std::size_t kMaxPreRollSamples = 8000;
+
   using Responder = std::function<Reply(const Recognition&)>;
   using AudioSink = std::function<void(std::span<const std::int16_t>)>;
 
@@ -131,7 +140,9 @@ class VoiceLoop {
 
  private:
   void set_state(VoiceState state);
-  void start_listening(std::int64_t wake_sample);
+  // Starts a turn; `pre_roll` is audio already heard that belongs to the command.
+  void start_listening(std::int64_t wake_sample, std::span<const std::int16_t> pre_roll = {});
+  void remember(std::span<const std::int16_t> heard);  // keeps the pre-roll candidates
   void complete_turn(bool timed_out, std::chrono::steady_clock::time_point decided);
   void queue_speech(const std::string& text);
   void after_speech();                 // playback over: listen for an answer, or await
@@ -158,6 +169,9 @@ class VoiceLoop {
   bool finishing_ = false;           // inside finish()
   std::string answer_grammar_;
   std::vector<std::int16_t> playback_;  // speech queued; [played_, size) still to play
+  // The latest audio heard while awaiting or speaking, ending at samples_ (at most twice
+  // kMaxPreRollSamples, so that trimming it is rare).
+  std::vector<std::int16_t> recent_;
   std::size_t played_ = 0;
   std::vector<std::int16_t> silence_;
   std::vector<WakeWordDetection> detections_;

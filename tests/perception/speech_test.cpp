@@ -213,6 +213,81 @@ TEST_CASE("voice loop: a question is answered without the wake word, then it wai
                                               VoiceState::kExecuting, VoiceState::kAwaiting});
 }
 
+namespace {
+
+// The pocketsphinx spotter reporting each keyword `delay` samples after it ended, with the
+// same end_sample: a detector that becomes sure late, as the embedding wake word does at a
+// low sensitivity.
+class LateWakeWord : public WakeWordDetector {
+ public:
+  explicit LateWakeWord(std::int64_t delay) : delay_(delay) {}
+  const std::string& keyword() const override { return inner_.keyword(); }
+  void set_sensitivity(float s) override { inner_.set_sensitivity(s); }
+  float sensitivity() const override { return inner_.sensitivity(); }
+  std::size_t process(std::span<const std::int16_t> samples,
+                      std::vector<WakeWordDetection>& detections) override {
+    inner_.process(samples, held_);
+    seen_ += static_cast<std::int64_t>(samples.size());
+    std::size_t added = 0;
+    while (!held_.empty() && seen_ >= held_.front().end_sample + delay_) {
+      detections.push_back(held_.front());
+      held_.erase(held_.begin());
+      ++added;
+    }
+    return added;
+  }
+  void reset() override {
+    inner_.reset();
+    held_.clear();
+    seen_ = 0;
+  }
+
+ private:
+  PocketsphinxWakeWord inner_;
+  std::int64_t delay_;
+  std::int64_t seen_ = 0;
+  std::vector<WakeWordDetection> held_;
+};
+
+}  // namespace
+
+TEST_CASE("voice loop: a detector sure of the wake word 0.4 s late still hears the whole command") {
+  // "marvin, what time is it": the command starts at the detection's end_sample, 0.4 s before
+  // the detection; without going back there the recognizer would get "...time is it".
+  const std::vector<std::int16_t> audio = utterance("marvin, what time is it", 500, 3000);
+  LateWakeWord late(6400);
+  std::vector<std::string> heard;
+  std::vector<VoiceTurn> turns;
+  std::vector<std::int16_t> out;
+  VoiceLoopOptions options;
+  options.aligned_output = true;
+  VoiceLoop loop(
+      late, recognizer(), synthesizer(),
+      [&](const Recognition& r) {
+        heard.push_back(r.matched ? r.text : "");
+        return Reply{"It is ten past eight.", false, {}};
+      },
+      [&](std::span<const std::int16_t> chunk) {
+        out.insert(out.end(), chunk.begin(), chunk.end());
+      },
+      options);
+  loop.on_turn([&](const VoiceTurn& t) { turns.push_back(t); });
+  for (std::size_t pos = 0; pos < audio.size(); pos += 512) {
+    loop.feed(std::span<const std::int16_t>(audio).subspan(
+        pos, std::min<std::size_t>(512, audio.size() - pos)));
+  }
+  loop.finish();
+  REQUIRE(turns.size() == 1);
+  CHECK(heard == std::vector<std::string>{"what time is it"});
+  // The turn's times are the stream's: the command began after the wake word, and less than
+  // the 0.4 s of delay after it.
+  CHECK(turns[0].speech_begin_sample >= turns[0].wake_sample);
+  CHECK(turns[0].speech_begin_sample < turns[0].wake_sample + 6400);
+  // The audio heard again is not counted again: the output still lines up with the input
+  // (the 3 s after the command hold the whole reply).
+  CHECK(out.size() == audio.size());
+}
+
 TEST_CASE("voice loop: silence after the wake word times out quietly") {
   std::vector<std::int16_t> audio = utterance("marvin", 500, 0);
   audio.resize(audio.size() + 6 * 16000, 0);

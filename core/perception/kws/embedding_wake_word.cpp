@@ -31,6 +31,8 @@ void EmbeddingWakeWord::reset() {
   history_.clear();
   last_detection_end_ = -1;
   run_ = 0;
+  end_run_ = 0;
+  keyword_end_ = -1;
 }
 
 std::size_t EmbeddingWakeWord::process(std::span<const std::int16_t> samples,
@@ -68,11 +70,18 @@ std::size_t EmbeddingWakeWord::consume(std::vector<WakeWordDetection>& detection
     if (score_log_ != nullptr) score_log_->emplace_back(end, score);
     const auto refractory = static_cast<std::int64_t>(head_.refractory_seconds * 16000.0f);
     run_ = score >= threshold_ ? run_ + 1 : 0;
+    end_run_ = score >= std::min(kKeywordEndScore, threshold_) ? end_run_ + 1 : 0;
+    if (end_run_ == 0) keyword_end_ = -1;
+    if (end_run_ == head_.consecutive) keyword_end_ = end;
     if (run_ >= head_.consecutive &&
         (last_detection_end_ < 0 || end - last_detection_end_ >= refractory)) {
       last_detection_end_ = end;
-      // A spoken keyword is under a second; the head saw the last 1.28 s.
-      detections.push_back({std::max<std::int64_t>(0, end - 16000), end, score});
+      // The lower level's run contains this one, so keyword_end_ is set and not after end;
+      // unset again for a second detection in one run (a score high for over the refractory).
+      const std::int64_t keyword_end = keyword_end_ >= 0 ? keyword_end_ : end;
+      keyword_end_ = -1;
+      // A spoken keyword is under a second.
+      detections.push_back({std::max<std::int64_t>(0, keyword_end - 16000), keyword_end, score});
       ++added;
     }
   }
