@@ -82,6 +82,60 @@ TEST_CASE("a random variant sets pitch, nine formants and voicing inside the doc
   CHECK(kws::random_variant_text("x", a) == kws::random_variant_text("x", b));
 }
 
+TEST_CASE("a wide variant stays in the shipped training variants' ranges and uses their extras") {
+  std::mt19937_64 rng(9);
+  std::map<std::string, int> lines_with;  // how many variants set each keyword
+  int single_formant_moved = 0;
+  for (int i = 0; i < 300; ++i) {
+    const auto values = parse(kws::random_wide_variant_text("w" + std::to_string(i), rng));
+    const std::vector<int>& pitch = values.at("pitch");
+    REQUIRE(pitch.size() == 2);
+    CHECK(pitch[0] >= 50);
+    CHECK(pitch[0] <= 240);
+    CHECK(pitch[1] >= pitch[0] + 20);
+    bool moved = false;
+    for (int f = 0; f <= 8; ++f) {
+      const std::vector<int>& v = values.at("formant " + std::to_string(f));
+      REQUIRE(v.size() == 3);
+      CHECK(v[0] >= 45);
+      CHECK(v[0] <= 159);  // 1.45 x 1.1
+      CHECK(v[1] >= 0);
+      CHECK(v[1] <= 160);
+      if (v[0] < 67) moved = true;  // below what the vocal tract's scale alone reaches
+    }
+    single_formant_moved += moved;
+    CHECK(values.at("voicing")[0] >= 30);
+    CHECK(values.at("voicing")[0] <= 230);
+    for (const auto& [key, v] : values) ++lines_with[key];
+    if (values.count("klatt")) CHECK(values.at("klatt")[0] != 4);  // the held-out "klatt4"
+    if (values.count("tone")) CHECK(values.at("tone").size() == 6);
+    if (values.count("breath")) CHECK(values.at("breath").size() == 8);
+  }
+  for (const char* extra : {"consonants", "tone", "breath", "echo", "klatt", "roughness"}) {
+    INFO(extra);
+    CHECK(lines_with[extra] > 15);
+    CHECK(lines_with[extra] < 200);
+  }
+  CHECK(single_formant_moved > 15);
+  std::mt19937_64 a(4), b(4), c(4), d(4);
+  CHECK(kws::random_wide_variant_text("x", a) == kws::random_wide_variant_text("x", b));
+  CHECK(kws::random_wide_variant_text("x", c) != kws::random_variant_text("x", d));
+}
+
+TEST_CASE("wide generated variants: written to the private directory, and espeak-ng reads them") {
+  ts::TempDir tmp;
+  const std::filesystem::path dir = tmp / "voices";
+  const std::vector<std::string> names =
+      kws::install_generated_variants(2, 11, dir, kws::VariantSpace::kWide);
+  const std::filesystem::path variants = dir / "espeak-ng-data" / "voices" / "!v";
+  std::mt19937_64 rng(11);
+  for (const std::string& n : names)
+    CHECK(ts::read_text(variants / n) == kws::random_wide_variant_text(n, rng));
+  const std::string plain = speak("en-us", dir);
+  CHECK(speak("en-us+mkws0", dir) != plain);
+  CHECK(speak("en-us+mkws1", dir) != plain);
+}
+
 TEST_CASE("generated variants: a private data directory espeak-ng speaks them from") {
   ts::TempDir tmp;
   const std::filesystem::path dir = tmp / "voices";

@@ -19,9 +19,11 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <fstream>
 #include <future>
 #include <map>
 #include <random>
+#include <stdexcept>
 
 #include "devices/audio/sound_buffer.h"
 #include "devices/audio/sound_file.h"
@@ -361,6 +363,26 @@ std::vector<int> g_embedding_consecutive = {1};
 // --embedding-details: the threshold to show the first head's misses and false accepts at
 // (with the first --embedding-consecutive step count); negative: none.
 float g_embedding_details = -1.0f;
+// --dump-scores: where to write every head's score log and the track's segments, for trying
+// decision rules offline (empty: not written).
+std::string g_dump_scores;
+
+// PREFIX.scores.tsv: "head end_sample score" per line; PREFIX.track.tsv: "keyword|sentence
+// begin end voice text" per line (samples at 16 kHz).
+void dump_scores(const std::string& prefix, const std::vector<ScoreLog>& logs, const Track& track) {
+  std::ofstream scores(prefix + ".scores.tsv"), segments(prefix + ".track.tsv");
+  for (std::size_t h = 0; h < logs.size(); ++h) {
+    for (const auto& [end, score] : logs[h]) scores << h << '\t' << end << '\t' << score << '\n';
+  }
+  for (const auto* kind : {&track.keywords, &track.sentences}) {
+    for (const Segment& seg : *kind) {
+      segments << (kind == &track.keywords ? "keyword" : "sentence") << '\t' << seg.begin << '\t'
+               << seg.end << '\t' << seg.voice << '\t' << seg.text << '\n';
+    }
+  }
+  if (!scores.flush() || !segments.flush())
+    throw std::runtime_error("--dump-scores: cannot write \"" + prefix + ".*.tsv\"");
+}
 
 struct EvalRow {
   double miss, fah;
@@ -476,6 +498,7 @@ std::vector<std::vector<EvalRow>> all_embedding_rows(const std::vector<std::stri
         logs[h].emplace_back(ends[e], heads[h].score(in));
     }
   }
+  if (!g_dump_scores.empty()) dump_scores(g_dump_scores, logs, track);
   for (std::size_t h = 0; h < heads.size(); ++h) {
     std::printf("-- embedding head %s (\"%s\", refractory %.1f s)\n", paths[h].c_str(),
                 heads[h].keyword.c_str(), static_cast<double>(heads[h].refractory_seconds));
@@ -658,6 +681,9 @@ int main(int argc, char** argv) {
   app.add_option("--embedding-mean-steps", g_embedding_mean_steps,
                  "also replay each threshold on the mean of this many consecutive scores")
       ->check(CLI::Range(1, 10));
+  app.add_option("--dump-scores", g_dump_scores,
+                 "write every head's scores and the track's segments to PREFIX.scores.tsv and "
+                 "PREFIX.track.tsv (for trying decision rules offline)");
   app.add_option("--embedding-details", g_embedding_details,
                  "at this threshold (first --embedding-consecutive, first head): miss rate per "
                  "voice (real track: per folder), each missed keyword and each false accept");

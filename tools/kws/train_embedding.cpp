@@ -326,6 +326,7 @@ int train_embedding_main(int argc, char** argv) {
   int generated_voices = 0, real_variants = 1;
   float quiet_share = 0.2f;
   std::string voices_dir;
+  bool wide_variants = false;
   topt.epochs = 30;
   app.add_flag("--embedding", embedding, "train the embedding wake word's head (this recipe)");
   app.add_option("--keyword", keyword, "what is said (lower case)")->capture_default_str();
@@ -373,6 +374,9 @@ int train_embedding_main(int argc, char** argv) {
   app.add_option("--generated-voices", generated_voices,
                  "also speak with this many random espeak-ng variants of each training accent")
       ->capture_default_str();
+  app.add_flag("--wide-variants", wide_variants,
+               "draw the generated variants from the wider space the shipped training variants "
+               "span (single formants moved, consonants, tilt, breath, echo, Klatt sources)");
   app.add_option("--voices-dir", voices_dir,
                  "with --generated-voices: where the private espeak-ng data goes (must not "
                  "exist; default: a temporary directory, removed at exit)");
@@ -434,7 +438,9 @@ int train_embedding_main(int argc, char** argv) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     std::unique_ptr<kws::GeneratedVoiceSet> generated;
     if (generated_voices > 0)
-      generated = std::make_unique<kws::GeneratedVoiceSet>(generated_voices, seed, voices_dir);
+      generated = std::make_unique<kws::GeneratedVoiceSet>(
+          generated_voices, seed, voices_dir,
+          wide_variants ? kws::VariantSpace::kWide : kws::VariantSpace::kNarrow);
     const std::vector<std::string> voices =
         generated ? generated->voices() : kws::training_voices();
     std::uniform_int_distribution<std::size_t> pick_voice(0, voices.size() - 1);

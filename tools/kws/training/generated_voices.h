@@ -24,12 +24,23 @@ namespace marvin::perception::kws {
 // sometimes nearly off; voicing 30..150%).
 std::string random_variant_text(const std::string& name, std::mt19937_64& rng);
 
+// The same, drawn from the wider space the shipped training variants span (dataset.cpp's
+// kTrainVariants, not the held-out ones): pitch base 50..240 Hz; vocal tract 0.75..1.45; a
+// fifth of formants 1..5 moved on their own to 45..150 %, a few nearly silent; voicing
+// 30..230 %; and sometimes consonant strength, spectral tilt ("tone"), breath, echo and the
+// Klatt synthesiser's voice sources 1, 2, 3, 5, 6.
+std::string random_wide_variant_text(const std::string& name, std::mt19937_64& rng);
+
+// Which of the two generators a training run draws its variants from.
+enum class VariantSpace { kNarrow, kWide };
+
 // Writes `count` variants named mkws0, mkws1, ... (from `seed`) into a private espeak-ng
 // data directory `dir`/espeak-ng-data (`dir` is created and must not exist yet). Returns
 // the variant names. Throws std::runtime_error naming `dir` when it exists or cannot be
 // written, or when the system's data cannot be found.
 std::vector<std::string> install_generated_variants(int count, std::uint64_t seed,
-                                                    const std::filesystem::path& dir);
+                                                    const std::filesystem::path& dir,
+                                                    VariantSpace space = VariantSpace::kNarrow);
 
 // Makes espeak-ng in this process read its data from `dir` (as installed above) by setting
 // ESPEAK_DATA_PATH. Has an effect only before the process first synthesises speech:
@@ -46,7 +57,8 @@ std::vector<std::string> voices_with_variants(const std::vector<std::string>& ba
 // training accent with every variant. Throws as install_generated_variants().
 class GeneratedVoiceSet {
  public:
-  GeneratedVoiceSet(int count, std::uint64_t seed, std::filesystem::path dir);
+  GeneratedVoiceSet(int count, std::uint64_t seed, std::filesystem::path dir,
+                    VariantSpace space = VariantSpace::kNarrow);
   ~GeneratedVoiceSet();
   GeneratedVoiceSet(const GeneratedVoiceSet&) = delete;
   GeneratedVoiceSet& operator=(const GeneratedVoiceSet&) = delete;
