@@ -30,6 +30,7 @@
 #include "devices/audio/sound_file.h"
 #include "kws/training/augment.h"
 #include "kws/training/dataset.h"
+#include "kws/training/festival_voices.h"
 #include "kws/training/flite_voices.h"
 #include "kws/training/generated_voices.h"
 #include "kws/training/head_trainer.h"
@@ -322,7 +323,8 @@ int train_embedding_main(int argc, char** argv) {
   double mine_minutes = 0.0;
   float mine_floor = 0.1f;
   int mine_copies = 1;
-  float flite_share = 0.0f, reverb_share = 0.0f, band_share = 0.0f, dropout_share = 0.0f;
+  float flite_share = 0.0f, festival_share = 0.0f, reverb_share = 0.0f, band_share = 0.0f,
+        dropout_share = 0.0f;
   int generated_voices = 0, real_variants = 1;
   float quiet_share = 0.2f;
   std::string voices_dir;
@@ -370,6 +372,11 @@ int train_embedding_main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--flite", flite_share,
                  "share of the synthesised utterances said by flite's voices instead of espeak-ng")
+      ->capture_default_str();
+  app.add_option(
+         "--festival", festival_share,
+         "share of the synthesised utterances said by festival's voices (festival_voices.h); "
+         "--flite's share is taken of the rest")
       ->capture_default_str();
   app.add_option("--generated-voices", generated_voices,
                  "also speak with this many random espeak-ng variants of each training accent")
@@ -447,9 +454,15 @@ int train_embedding_main(int argc, char** argv) {
     std::uniform_int_distribution<int> rate(110, 230), pitch(20, 80);
     const auto noise_pool = kws::make_noise_pool(noise_dir, voices, rng);
     const auto& flite = kws::flite_voices();
+    const auto& festival = kws::festival_voices();
     auto say = [&](const std::string& text) {
       std::vector<float> w;
-      if (flite_share > 0.0f && u(rng) < flite_share) {
+      // Drawn only when asked for, so that recipes without festival draw as they did.
+      if (festival_share > 0.0f && u(rng) < festival_share) {
+        const std::string& v =
+            festival[std::uniform_int_distribution<std::size_t>(0, festival.size() - 1)(rng)];
+        w = kws::synthesize_festival(text, v, 0.8f + 0.45f * u(rng));
+      } else if (flite_share > 0.0f && u(rng) < flite_share) {
         const std::string& v =
             flite[std::uniform_int_distribution<std::size_t>(0, flite.size() - 1)(rng)];
         const float f0 = v == "slt" ? 150.0f + 100.0f * u(rng) : 80.0f + 70.0f * u(rng);

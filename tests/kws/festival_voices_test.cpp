@@ -1,0 +1,63 @@
+// The training tools' third synthesiser: every festival training voice says a word, the English
+// voices follow the stretch, and a missing program or voice is an error that says what to run.
+#include "kws/training/festival_voices.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+#include "kws/training/augment.h"
+
+namespace kws = marvin::perception::kws;
+
+TEST_CASE("every festival training voice says a word") {
+  for (const std::string& voice : kws::festival_voices()) {
+    CAPTURE(voice);
+    const std::vector<float> word = kws::synthesize_festival("marvin", voice, 1.0f);
+    CHECK(word.size() > 16000 * 2 / 10);  // a word: more than 0.2 s
+    CHECK(word.size() < 16000 * 3 / 2);
+    CHECK(kws::rms(word) > 0.01f);
+  }
+}
+
+TEST_CASE("an English festival voice says it slower with a larger stretch") {
+  const std::vector<float> normal = kws::synthesize_festival("marvin", "kal_diphone", 1.0f);
+  const std::vector<float> slow = kws::synthesize_festival("marvin", "kal_diphone", 1.5f);
+  CHECK(static_cast<double>(slow.size()) > 1.3 * static_cast<double>(normal.size()));
+}
+
+TEST_CASE("the held-out festival voices are not training voices") {
+  const auto& voices = kws::festival_voices();
+  for (const char* held_out : {"ked_diphone", "czech_krb", "czech_ph", "hy_fi_mv_diphone"}) {
+    CAPTURE(held_out);
+    CHECK(std::find(voices.begin(), voices.end(), held_out) == voices.end());
+  }
+}
+
+TEST_CASE("without the text2wave program the error names it and scripts/setup") {
+  const char* old = std::getenv("PATH");
+  const std::string saved = old != nullptr ? old : "";
+  setenv("PATH", "/nonexistent", 1);
+  std::string message;
+  try {
+    kws::synthesize_festival("marvin", "kal_diphone", 1.0f);
+  } catch (const std::runtime_error& e) {
+    message = e.what();
+  }
+  setenv("PATH", saved.c_str(), 1);
+  CHECK(message.find("cannot run text2wave") != std::string::npos);
+  CHECK(message.find("scripts/setup") != std::string::npos);
+}
+
+TEST_CASE("an unknown festival voice is an error naming it") {
+  // text2wave itself exits 0 after the Scheme error and writes no sound.
+  CHECK_THROWS_WITH_AS(kws::synthesize_festival("marvin", "nobody_diphone", 1.0f),
+                       doctest::Contains("festival voice \"nobody_diphone\" said nothing"),
+                       std::runtime_error);
+  CHECK_THROWS_WITH_AS(kws::synthesize_festival("marvin", "kal) (quit", 1.0f),
+                       doctest::Contains("festival voice \"kal) (quit\": expected a voice name"),
+                       std::runtime_error);
+}
