@@ -10,6 +10,7 @@
 #include <string>
 
 #include "kws/training/augment.h"
+#include "kws/training/synthesiser_program.h"
 
 namespace kws = marvin::perception::kws;
 
@@ -29,11 +30,13 @@ TEST_CASE("an English festival voice says it slower with a larger stretch") {
   CHECK(static_cast<double>(slow.size()) > 1.3 * static_cast<double>(normal.size()));
 }
 
-TEST_CASE("the held-out festival voices are not training voices") {
+TEST_CASE("the held-out festival voices speak and are not training voices") {
   const auto& voices = kws::festival_voices();
-  for (const char* held_out : {"ked_diphone", "czech_krb", "czech_ph", "hy_fi_mv_diphone"}) {
+  REQUIRE(kws::festival_heldout_voices().size() == 4);
+  for (const std::string& held_out : kws::festival_heldout_voices()) {
     CAPTURE(held_out);
     CHECK(std::find(voices.begin(), voices.end(), held_out) == voices.end());
+    CHECK(kws::synthesize_festival("marvin", held_out, 1.0f).size() > 1600);
   }
 }
 
@@ -59,5 +62,12 @@ TEST_CASE("an unknown festival voice is an error naming it") {
                        std::runtime_error);
   CHECK_THROWS_WITH_AS(kws::synthesize_festival("marvin", "kal) (quit", 1.0f),
                        doctest::Contains("festival voice \"kal) (quit\": expected a voice name"),
+                       std::runtime_error);
+}
+
+TEST_CASE("a text longer than a synthesiser's input limit is refused before it runs") {
+  const std::string long_text(kws::kMaxSynthesiserInput + 1, 'a');
+  CHECK_THROWS_WITH_AS(kws::synthesize_festival(long_text, "kal_diphone", 1.0f),
+                       doctest::Contains("text2wave: input of 4098 bytes, expected at most 4096"),
                        std::runtime_error);
 }

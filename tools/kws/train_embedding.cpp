@@ -6,6 +6,8 @@
 //   (--keyword-tail); half the time the end of another utterance 0.1..0.5 s before it, and in
 //   a share --keyword-after the start of one 0.1..0.3 s after it;
 // - late keywords (negatives): the keyword ended 0.21..0.96 s before the positives' latest end;
+// - near misses (negatives, --near-misses): made as the positives are, with a word that sounds
+//   like the keyword in its place;
 // - negatives: the same with other words / sentence pieces / words that sound like the keyword
 //   in place of the keyword, and real recordings of other words (--negatives-dir, each file
 //   `--real-copies` times), ending 0..240 ms before the example's end (--negative-tail); the
@@ -308,10 +310,10 @@ std::vector<std::vector<float>> read_sound_folder(const std::filesystem::path& f
 int train_embedding_main(int argc, char** argv) {
   CLI::App app{"Train the head of Marvin's embedding wake word (speech embedding + small MLP)"};
   std::string keyword = "marvin", out = "models/marvin-embedding-head.bin", noise_dir;
-  std::vector<std::string> negative_dirs, spellings;
+  std::vector<std::string> negative_dirs, spellings, near_miss_texts;
   std::uint64_t seed = 1;
   int positives = 1500, negatives = 1500, noise_examples = 200, real_copies = 1, threads = 2;
-  int late_keywords = 1000, conversation_stride = 1;
+  int late_keywords = 1000, conversation_stride = 1, near_misses = 0;
   float keyword_tail = kDefaultTailS, keyword_after = 0.0f, negative_tail = kDefaultTailS;
   double negative_minutes = 10.0;
   float threshold = 0.5f, refractory = 2.0f;
@@ -363,6 +365,14 @@ int train_embedding_main(int argc, char** argv) {
                  "negatives where the keyword ended 0.21..0.96 s longer ago than --keyword-tail "
                  "allows (0.45..1.2 s before the window's end at the default tail)")
       ->capture_default_str();
+  app.add_option("--near-misses", near_misses,
+                 "negatives made exactly as the keyword examples are (context, tail, speech "
+                 "after) with a word that sounds like the keyword in its place")
+      ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
+  app.add_option("--near-miss", near_miss_texts,
+                 "texts the --near-misses say, one picked per example (default: the words that "
+                 "sound like \"marvin\" of confusable_words(); give your own for another keyword)");
   app.add_option("--conversation-stride", conversation_stride,
                  "take every N-th window of the conversation")
       ->capture_default_str();
@@ -517,8 +527,24 @@ int train_embedding_main(int argc, char** argv) {
                             keyword_tail + kLateKeywordFromS, keyword_tail + kLateKeywordToS,
                             &after));
       }
-      std::printf("%d keyword examples, %d late-keyword examples synthesised (%.0f s)\n", positives,
-                  late_keywords, head_seconds_since(start));
+      // Minimal pairs: the keyword's examples with the keyword swapped for a word that sounds
+      // like it ("marvellous weather", "Marvel comics"), so that the word itself, not where it
+      // sits or what surrounds it, is what tells the two apart.
+      if (near_miss_texts.empty()) near_miss_texts = conf;
+      near_miss_texts.erase(std::remove(near_miss_texts.begin(), near_miss_texts.end(), keyword),
+                            near_miss_texts.end());
+      for (int k = 0; k < near_misses && !near_miss_texts.empty(); ++k) {
+        const std::vector<float> w = say(near_miss_texts[std::uniform_int_distribution<std::size_t>(
+            0, near_miss_texts.size() - 1)(rng)]);
+        const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
+        const std::vector<float> after =
+            u(rng) < keyword_after ? say(other_text()) : std::vector<float>{};
+        raw.push_back(
+            place(w, &ctx, 0.0f, noise_pool, quiet_share, rng, 0.0f, keyword_tail, &after));
+      }
+      std::printf(
+          "%d keyword examples, %d late-keyword examples, %d near misses synthesised (%.0f s)\n",
+          positives, late_keywords, near_misses, head_seconds_since(start));
       std::fflush(stdout);
       for (int k = 0; k < negatives; ++k) {
         std::vector<float> w = say(other_text());

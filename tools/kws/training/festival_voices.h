@@ -11,16 +11,20 @@
 
 namespace marvin::perception::kws {
 
-// The festival voices the training tools use. Four more Debian voices (ked_diphone,
-// czech_krb, czech_ph, hy_fi_mv_diphone) are installed but kept out of training on purpose:
-// they are the held-out festival voices of models/README.md's evaluation.
+// The festival voices the training tools use.
 const std::vector<std::string>& festival_voices();
 
-// `text` said by festival `voice` (a name from festival_voices(), or one of the held-out
-// voices), 16 kHz float, silence trimmed. `stretch` lengthens the durations (> 1 slower) where
-// the voice's duration model follows festival's Duration_Stretch (the English voices; the
-// others ignore it). Throws std::runtime_error naming text2wave and `scripts/setup` when
-// festival is missing, and naming the voice when it is unknown or says nothing.
+// Four more Debian voices, installed but kept out of training on purpose: the held-out
+// festival voices of models/README.md's evaluation (tools/kws/festival-heldout says the
+// keyword with them).
+const std::vector<std::string>& festival_heldout_voices();
+
+// `text` said by festival `voice` (a name from festival_voices() or
+// festival_heldout_voices()), 16 kHz float, silence trimmed. `stretch` lengthens the durations
+// (> 1 slower) where the voice's duration model follows festival's Duration_Stretch (the
+// English voices; the others ignore it). Throws std::runtime_error naming text2wave and
+// `scripts/setup` when festival is missing, and naming the voice when it is unknown or says
+// nothing.
 std::vector<float> synthesize_festival(const std::string& text, const std::string& voice,
                                        float stretch);
 
