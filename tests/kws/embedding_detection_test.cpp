@@ -63,6 +63,19 @@ TEST_CASE("a synthesised \"marvin\" is detected once by the embedding wake word"
   }
 }
 
+TEST_CASE("\"hey marvin\" in one breath is detected once by the embedding wake word") {
+  // People call the robot with a word before its name as often as by the name alone; the head
+  // learnt it from lead-ins (marvin-kws-train --lead-ins). The head before it heard none of
+  // these four. Not every lead-in and voice is heard: on held-out voices about three in four
+  // (models/README.md, "Session 18"; "Okay Marvin" in en-us is one it misses).
+  for (const char* voice : {"en-us", "en-gb-x-gbclan+m7"}) {
+    for (const char* text : {"Hey Marvin", "Excuse me Marvin"}) {
+      INFO("voice " << std::string(voice) << ": " << std::string(text));
+      CHECK(detections(spoken_with_pauses(text, voice)).size() == 1);
+    }
+  }
+}
+
 TEST_CASE("a sentence without the keyword is not detected by the embedding wake word") {
   CHECK(detections(spoken_with_pauses("please turn on the lights in the kitchen", "en-us")).empty());
   CHECK(detections(spoken_with_pauses("what time is it", "en-gb-x-gbcwmd+f5")).empty());
@@ -111,7 +124,8 @@ TEST_CASE(
   // Where the command starts must not move into it when Marvin needs to be surer of his name
   // (embedding_wake_word.h, "Where the keyword ended"). This voice scores over 0.8 some steps
   // before it scores over 0.971 (sensitivity 0.05); most reach both at once.
-  const std::vector<std::int16_t> pcm = spoken_with_pauses("Marvin, what time is it", "en-us+f2");
+  const std::vector<std::int16_t> pcm =
+      spoken_with_pauses("Marvin, what time is it", "en-gb-x-gbclan+m7");
   std::int64_t end[2] = {-1, -1};
   std::size_t fired[2] = {0, 0};
   const float sensitivities[2] = {0.5f, 0.05f};

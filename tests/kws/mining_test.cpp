@@ -40,6 +40,17 @@ TEST_CASE("confusable words and varied sentences never contain the keyword") {
   CHECK(with_confusable > 250);
 }
 
+TEST_CASE("lead-in words are neither the keyword nor a piece of it") {
+  REQUIRE(kws::lead_in_words().size() >= 8);
+  for (const std::string& w : kws::lead_in_words()) {
+    INFO(w);
+    // "hey marvin" must be the keyword after a lead-in, never a longer word that holds it.
+    CHECK(w.find("mar") == std::string::npos);
+    CHECK(w.find("vin") == std::string::npos);
+    CHECK(std::count(kws::lead_in_words().begin(), kws::lead_in_words().end(), w) == 1);
+  }
+}
+
 // Not compared sample by sample across two calls: espeak-ng's output depends on the engine's
 // state from earlier calls in the process (a fresh process with the same calls repeats
 // itself, which is what makes a training run reproducible).

@@ -8,6 +8,8 @@
 // - late keywords (negatives): the keyword ended 0.21..0.96 s before the positives' latest end;
 // - near misses (negatives, --near-misses): made as the positives are, with a word that sounds
 //   like the keyword in its place;
+// - with --lead-ins, a share of the keyword, near-miss and other-speech utterances start with
+//   a lead-in word said in the same breath ("hey marvin");
 // - negatives: the same with other words / sentence pieces / words that sound like the keyword
 //   in place of the keyword, and real recordings of other words (--negatives-dir, each file
 //   `--real-copies` times), ending 0..240 ms before the example's end (--negative-tail); the
@@ -314,7 +316,8 @@ int train_embedding_main(int argc, char** argv) {
   std::uint64_t seed = 1;
   int positives = 1500, negatives = 1500, noise_examples = 200, real_copies = 1, threads = 2;
   int late_keywords = 1000, conversation_stride = 1, near_misses = 0;
-  float keyword_tail = kDefaultTailS, keyword_after = 0.0f, negative_tail = kDefaultTailS;
+  float keyword_tail = kDefaultTailS, keyword_after = 0.0f, negative_tail = kDefaultTailS,
+        lead_in_share = 0.0f;
   double negative_minutes = 10.0;
   float threshold = 0.5f, refractory = 2.0f;
   int consecutive = 1;
@@ -364,6 +367,12 @@ int train_embedding_main(int argc, char** argv) {
   app.add_option("--late-keywords", late_keywords,
                  "negatives where the keyword ended 0.21..0.96 s longer ago than --keyword-tail "
                  "allows (0.45..1.2 s before the window's end at the default tail)")
+      ->capture_default_str();
+  app.add_option("--lead-ins", lead_in_share,
+                 "share of the keyword examples, near misses and other-speech negatives said run "
+                 "together after a lead-in word (\"hey marvin\", \"okay marvin\"; "
+                 "lead_in_words())")
+      ->check(CLI::Range(0.0f, 1.0f))
       ->capture_default_str();
   app.add_option("--near-misses", near_misses,
                  "negatives made exactly as the keyword examples are (context, tail, speech "
@@ -494,6 +503,15 @@ int train_embedding_main(int argc, char** argv) {
       if (r < 0.7f) return kws::varied_sentence(rng);
       return kws::random_sentence(rng);
     };
+    // "hey marvin" in one breath: the lead-in runs into the word, unlike the context before
+    // it, which is another utterance. Drawn only when asked for, so that recipes without
+    // lead-ins draw as they did.
+    const auto& leads = kws::lead_in_words();
+    auto with_lead_in = [&](const std::string& text) {
+      if (lead_in_share <= 0.0f || u(rng) >= lead_in_share) return text;
+      return leads[std::uniform_int_distribution<std::size_t>(0, leads.size() - 1)(rng)] + " " +
+             text;
+    };
     kws::HeadSet all;
     std::size_t real = 0;
     for (const auto& f : feature_files) {
@@ -504,8 +522,8 @@ int train_embedding_main(int argc, char** argv) {
       std::vector<RawExample> raw;
       if (spellings.empty()) spellings.push_back(keyword);
       auto say_keyword = [&] {
-        return say(
-            spellings[std::uniform_int_distribution<std::size_t>(0, spellings.size() - 1)(rng)]);
+        return say(with_lead_in(
+            spellings[std::uniform_int_distribution<std::size_t>(0, spellings.size() - 1)(rng)]));
       };
       for (int k = 0; k < positives; ++k) {
         const std::vector<float> w = say_keyword();
@@ -534,8 +552,9 @@ int train_embedding_main(int argc, char** argv) {
       near_miss_texts.erase(std::remove(near_miss_texts.begin(), near_miss_texts.end(), keyword),
                             near_miss_texts.end());
       for (int k = 0; k < near_misses && !near_miss_texts.empty(); ++k) {
-        const std::vector<float> w = say(near_miss_texts[std::uniform_int_distribution<std::size_t>(
-            0, near_miss_texts.size() - 1)(rng)]);
+        const std::vector<float> w =
+            say(with_lead_in(near_miss_texts[std::uniform_int_distribution<std::size_t>(
+                0, near_miss_texts.size() - 1)(rng)]));
         const std::vector<float> ctx = u(rng) < 0.5f ? say(other_text()) : std::vector<float>{};
         const std::vector<float> after =
             u(rng) < keyword_after ? say(other_text()) : std::vector<float>{};
@@ -547,7 +566,7 @@ int train_embedding_main(int argc, char** argv) {
           positives, late_keywords, near_misses, head_seconds_since(start));
       std::fflush(stdout);
       for (int k = 0; k < negatives; ++k) {
-        std::vector<float> w = say(other_text());
+        std::vector<float> w = say(with_lead_in(other_text()));
         // A sentence ending, or a 0.5..1.5 s piece from its middle.
         if (w.size() > 24000 && u(rng) < 0.5f) {
           const auto n = static_cast<std::size_t>((0.5f + u(rng)) * 16000.0f);

@@ -273,6 +273,13 @@ const std::vector<std::string>& confusable_words() {
   return w;
 }
 
+const std::vector<std::string>& lead_in_words() {
+  static const std::vector<std::string> w = {"hey",  "hi",        "hello",        "okay",
+                                             "oh",   "ah",        "excuse me",    "please",
+                                             "well", "thank you", "good morning", "so"};
+  return w;
+}
+
 std::string varied_sentence(std::mt19937_64& rng) {
   const auto& v = vocabulary();
   const auto& c = confusable_words();

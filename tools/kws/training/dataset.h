@@ -58,6 +58,9 @@ std::string random_sentence(std::mt19937_64& rng);
 // Words that sound like the keyword or make it across a word boundary ("marvel", "carving",
 // "far in"); never the keyword itself.
 const std::vector<std::string>& confusable_words();
+// What people say run together before a name they call ("hey", "okay", "excuse me"): the
+// lead-ins of marvin-kws-train --lead-ins.
+const std::vector<std::string>& lead_in_words();
 // 3..14 words: mostly vocabulary(), about one in five from confusable_words(), so a 1 s
 // window of it is often a keyword-like piece in the middle of other speech.
 std::string varied_sentence(std::mt19937_64& rng);
