@@ -5,10 +5,10 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
+#include "error_without_programs.h"
 #include "kws/training/augment.h"
 #include "kws/training/synthesiser_program.h"
 
@@ -41,16 +41,8 @@ TEST_CASE("the held-out festival voices speak and are not training voices") {
 }
 
 TEST_CASE("without the text2wave program the error names it and scripts/setup") {
-  const char* old = std::getenv("PATH");
-  const std::string saved = old != nullptr ? old : "";
-  setenv("PATH", "/nonexistent", 1);
-  std::string message;
-  try {
-    kws::synthesize_festival("marvin", "kal_diphone", 1.0f);
-  } catch (const std::runtime_error& e) {
-    message = e.what();
-  }
-  setenv("PATH", saved.c_str(), 1);
+  const std::string message = kws::testing::error_without_programs(
+      [] { kws::synthesize_festival("marvin", "kal_diphone", 1.0f); });
   CHECK(message.find("cannot run text2wave") != std::string::npos);
   CHECK(message.find("scripts/setup") != std::string::npos);
 }

@@ -4,10 +4,10 @@
 
 #include <doctest/doctest.h>
 
-#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
+#include "error_without_programs.h"
 #include "kws/training/augment.h"
 
 namespace kws = marvin::perception::kws;
@@ -25,16 +25,8 @@ TEST_CASE("every flite voice says a word, and a larger stretch says it slower") 
 }
 
 TEST_CASE("without the flite program the error names it and scripts/setup") {
-  const char* old = std::getenv("PATH");
-  const std::string saved = old != nullptr ? old : "";
-  setenv("PATH", "/nonexistent", 1);
-  std::string message;
-  try {
-    kws::synthesize_flite("marvin", "slt", 1.0f, 150.0f);
-  } catch (const std::runtime_error& e) {
-    message = e.what();
-  }
-  setenv("PATH", saved.c_str(), 1);
+  const std::string message = kws::testing::error_without_programs(
+      [] { kws::synthesize_flite("marvin", "slt", 1.0f, 150.0f); });
   CHECK(message.find("flite") != std::string::npos);
   CHECK(message.find("scripts/setup") != std::string::npos);
 }
