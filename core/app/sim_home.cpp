@@ -82,8 +82,8 @@ SerialNavigation::SerialNavigation(const std::filesystem::path& world_file,
                                    devices::SerialBody& serial) {
   sim::World world = sim::load_world(world_file);
   navigation::BaseSpec base{world.robot.max_speed_m_s, world.robot.track_m, world.robot.accel_m_s2};
-  reckoning_ = std::make_unique<navigation::DeadReckoning>(
-      serial, base, world.robot.start, [&serial] { return serial.motors().driving(); });
+  reckoning_ =
+      std::make_unique<navigation::DeadReckoning>(serial, serial.motors(), base, world.robot.start);
   navigator_ = std::make_unique<navigation::Navigator>(
       world.map, *reckoning_, [r = reckoning_.get()] { return r->pose(); },
       [&serial] { return serial.latest_scan(); },

@@ -30,10 +30,19 @@ std::pair<std::uint8_t, std::uint8_t> MotorBase::wheel_codes(Direction direction
   return {MV_LEFT_FORWARD, MV_RIGHT_FORWARD};
 }
 
+// The helpers below run under mu_.
+void MotorBase::tell(std::uint8_t speed) {
+  if (observer_) observer_({std::chrono::steady_clock::now(), direction_, speed});
+}
+
 void MotorBase::send_frames() {
   auto [left, right] = wheel_codes(direction_);
-  link_.send_locomotion(left, speed_);
-  link_.send_locomotion(right, speed_);
+  const bool sent = link_.send_locomotion(left, speed_);
+  if (link_.send_locomotion(right, speed_) && sent) tell(speed_);
+}
+
+void MotorBase::send_stop() {
+  if (link_.send_ext(MV_STOP_ALL, {})) tell(0);
 }
 
 void MotorBase::drive(Direction direction, std::uint8_t speed, std::chrono::milliseconds duration) {
@@ -47,7 +56,7 @@ void MotorBase::drive(Direction direction, std::uint8_t speed, std::chrono::mill
     if (driving_) {
       send_frames();
     } else {
-      link_.send_ext(MV_STOP_ALL, {});
+      send_stop();
     }
   }
   wake_.notify_all();
@@ -58,7 +67,7 @@ void MotorBase::stop() {
     std::lock_guard lock(mu_);
     driving_ = false;
     ++generation_;
-    link_.send_ext(MV_STOP_ALL, {});
+    send_stop();
   }
   wake_.notify_all();
 }
@@ -70,6 +79,21 @@ void MotorBase::forget() {
     ++generation_;
   }
   wake_.notify_all();
+}
+
+void MotorBase::stopped_by_mcu() {
+  {
+    std::lock_guard lock(mu_);
+    driving_ = false;
+    ++generation_;
+    tell(0);
+  }
+  wake_.notify_all();
+}
+
+void MotorBase::set_observer(Observer observer) {
+  std::lock_guard lock(mu_);
+  observer_ = std::move(observer);
 }
 
 bool MotorBase::driving() const {
@@ -90,7 +114,7 @@ void MotorBase::run() {
     if (quit_ || generation_ != generation || !driving_) continue;
     if (std::chrono::steady_clock::now() >= deadline_) {
       driving_ = false;
-      link_.send_ext(MV_STOP_ALL, {});
+      send_stop();
     } else {
       send_frames();
     }

@@ -29,10 +29,12 @@ SerialBody::SerialBody(LinkOptions options, SweepSettings sweep)
       });
   telemetry_callback_ = link_.add_telemetry_callback([this](const Telemetry& t) {
     if (auto* f = std::get_if<Fault>(&t)) {
-      if (f->code == MV_FAULT_OBSTACLE || f->code == MV_FAULT_DEADMAN) motors_.forget();
-      if (f->code == MV_FAULT_OBSTACLE)
+      if (f->code == MV_FAULT_DEADMAN) motors_.forget();
+      if (f->code == MV_FAULT_OBSTACLE) {
+        motors_.stopped_by_mcu();
         log(LogLevel::kInfo, "devices",
             "obstacle ahead at " + std::to_string(f->value) + " mm: stopped");
+      }
     }
   });
   // Connected before the callback was registered: send now (a second copy is harmless).

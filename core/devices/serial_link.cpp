@@ -256,10 +256,17 @@ class SerialLink::Impl {
   }
 
   void arm_watchdog() {
-    watchdog_.expires_after(std::chrono::milliseconds(100));
-    watchdog_.async_wait([this](boost::system::error_code ec) {
+    constexpr std::int64_t kPeriodMs = 100;
+    const std::int64_t armed_ms = steady_ms();
+    watchdog_.expires_after(std::chrono::milliseconds(kPeriodMs));
+    watchdog_.async_wait([this, armed_ms](boost::system::error_code ec) {
       if (ec) return;
-      if (port_.is_open() && steady_ms() - last_rx_ms_ >= options_.silence_timeout.count())
+      // A watchdog that ran far too late means this process was not running (a stalled or
+      // suspended host), so the silence was ours: the telemetry is waiting to be read. The
+      // next round judges, after the reads queued with this one have run.
+      const std::int64_t now = steady_ms();
+      const bool on_time = now - armed_ms < 3 * kPeriodMs;
+      if (on_time && port_.is_open() && now - last_rx_ms_ >= options_.silence_timeout.count())
         lose("no telemetry for " + std::to_string(options_.silence_timeout.count()) + " ms");
       arm_watchdog();
     });

@@ -26,7 +26,9 @@ namespace marvin::devices {
 struct LinkOptions {
   std::string path;                                   // tty to open, e.g. /dev/ttyACM0
   std::chrono::milliseconds reconnect_interval{200};  // between attempts to reopen
-  std::chrono::milliseconds silence_timeout{1500};    // no valid frame this long: reopen
+  // No valid frame this long: reopen. Not counted: a wait the host itself slept through (a
+  // stalled process), when the telemetry is there to be read.
+  std::chrono::milliseconds silence_timeout{1500};
 };
 
 // Telemetry from the MCU, decoded. mcu_time_ms is the MCU's clock (28 bits, wraps after

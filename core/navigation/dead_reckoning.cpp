@@ -7,18 +7,28 @@
 
 namespace marvin::navigation {
 
-DeadReckoning::DeadReckoning(devices::Body& base, BaseSpec spec, Pose start,
-                             std::function<bool()> still_moving, Clock clock)
+DeadReckoning::DeadReckoning(devices::Body& base, BaseSpec spec, Pose start, Clock clock)
     : base_(base),
       spec_(spec),
-      still_moving_(std::move(still_moving)),
       clock_(clock ? std::move(clock) : Clock([] { return std::chrono::steady_clock::now(); })),
       pose_(start) {
   last_ = until_ = clock_();
 }
 
+DeadReckoning::DeadReckoning(devices::Body& base, devices::MotorBase& motors, BaseSpec spec,
+                             Pose start)
+    : DeadReckoning(base, spec, start) {
+  motors_ = &motors;
+  motors.set_observer([this](const devices::MotorBase::WheelCommand& command) {
+    wheel_command(command, devices::MotorBase::kDeadman);
+  });
+}
+
+DeadReckoning::~DeadReckoning() {
+  if (motors_) motors_->set_observer({});
+}
+
 void DeadReckoning::advance_locked(std::chrono::steady_clock::time_point now) {
-  if (still_moving_ && !still_moving_()) target_[0] = target_[1] = 0;  // the base stopped
   auto integrate = [this](double seconds) {
     const double step = 0.005;
     while (seconds > 1e-9) {
@@ -44,31 +54,46 @@ void DeadReckoning::advance_locked(std::chrono::steady_clock::time_point now) {
   last_ = now;
 }
 
+void DeadReckoning::set_target_locked(devices::Direction direction, std::uint8_t speed) {
+  // The same two locomotion frames the serial body sends: code 0 LF, 1 LB, 2 RF, 3 RB.
+  const auto [l, r] = devices::MotorBase::wheel_codes(direction);
+  for (std::uint8_t code : {l, r}) {
+    const double v = speed / 255.0 * spec_.max_speed_m_s;
+    target_[code >> 1] = (code & 1) ? -v : v;
+  }
+}
+
 void DeadReckoning::move(devices::Direction direction, std::uint8_t speed,
                          std::chrono::milliseconds duration) {
-  {
+  if (!motors_) {
     std::lock_guard lock(mu_);
     const auto now = clock_();
     advance_locked(now);
-    // The same two locomotion frames the serial body sends: code 0 LF, 1 LB, 2 RF, 3 RB.
-    const auto [l, r] = devices::MotorBase::wheel_codes(direction);
-    for (std::uint8_t code : {l, r}) {
-      const double v = speed / 255.0 * spec_.max_speed_m_s;
-      target_[code >> 1] = (code & 1) ? -v : v;
-    }
+    set_target_locked(direction, speed);
     until_ = now + duration;
   }
-  base_.move(direction, speed, duration);
+  base_.move(direction, speed, duration);  // the serial form hears of it from the motors
 }
 
 void DeadReckoning::stop() {
-  {
+  if (!motors_) {
     std::lock_guard lock(mu_);
     advance_locked(clock_());
     target_[0] = target_[1] = 0;
     until_ = last_;
   }
   base_.stop();
+}
+
+void DeadReckoning::wheel_command(const devices::MotorBase::WheelCommand& command,
+                                  std::chrono::milliseconds holds_for) {
+  std::lock_guard lock(mu_);
+  // A pose() that took the clock just after the command was stamped may have integrated past
+  // it already: the command then takes effect from there (microseconds late).
+  const auto at = std::max(command.at, last_);
+  advance_locked(at);
+  set_target_locked(command.direction, command.speed);
+  until_ = command.speed ? at + holds_for : at;
 }
 
 Pose DeadReckoning::pose() {

@@ -12,6 +12,9 @@
 // --link makes PATH a symlink to the pty's slave (replaced atomically, so a restarted
 // simulator reappears at the same path); the slave's name is also printed on stdout.
 // --state writes the body's pose as JSON every 100 ms (for tests and curious users).
+// Time is the steady clock's, and the core runs as if on a CPU of its own: when this
+// process was not scheduled for a while, the body, the core's deadman and the bytes that
+// arrived meanwhile are played through the gap rather than jumping at its end.
 // SIGINT / SIGTERM end it cleanly (the link is removed).
 #include <fcntl.h>
 #include <poll.h>
@@ -213,40 +216,59 @@ int main(int argc, char** argv) {
     mv_core core;
     mv_core_init(&core, &hal, &cfg, now_ms());
     std::uint32_t last_ms = now_ms(), last_state_ms = 0;
+    // Moves the body from last_ms to `t` with the wheel speeds the core set, running the core's
+    // tick at least every 10 ms on the way (its deadman, its status): what an MCU with a CPU
+    // of its own does, even when this process did not run for a while (a busy machine). A wall
+    // stops the body (a collision).
+    auto advance_to = [&](std::uint32_t t) {
+      while (static_cast<std::int32_t>(t - last_ms) > 0) {
+        const std::uint32_t next = t - last_ms > 10 ? last_ms + 10 : t;
+        const double dt = (next - last_ms) / 1000.0;
+        if (sim.world) {
+          sim.world->step(dt);
+          const auto& truth = sim.world->pose();
+          sim.pose = {truth.x, truth.y, truth.heading * 180.0 / marvin::navigation::kPi};
+        } else {
+          bool moved = marvin::mcusim::step_body(sim.room, sim.pose, wheel_m_s(sim, 0),
+                                                 wheel_m_s(sim, 1), dt);
+          bool pushing = !moved && (sim.speed[0] || sim.speed[1]);
+          if (pushing && !sim.touching) {
+            ++sim.collisions;
+            std::fprintf(stderr, "marvin-mcu-sim: collision at (%.2f, %.2f)\n", sim.pose.x,
+                         sim.pose.y);
+          }
+          sim.touching = pushing;
+        }
+        last_ms = next;
+        mv_core_tick(&core, next);
+      }
+    };
     bool rx_active = false;
     while (!g_quit) {
       pollfd p{sim.master, POLLIN, 0};
       int r = ::poll(&p, 1, 1);
       std::uint32_t now = now_ms();
       if (r > 0 && (p.revents & POLLIN)) {
-        std::uint8_t buf[256];
+        std::uint8_t buf[4096];  // all a pty holds: what waited is spread over the wait below
         ssize_t n = ::read(sim.master, buf, sizeof buf);
-        for (ssize_t i = 0; i < n; ++i) mv_core_rx(&core, buf[i], now);
+        // The bytes waited in the pty while this process was not running; the host sent them
+        // spread over that time, so they are taken spread over it (not all at its start or
+        // end: a turn's end would then come too early or too late by the whole wait).
+        const std::uint32_t waited_from = last_ms;
+        const std::uint64_t waited = now - waited_from;
+        for (ssize_t i = 0; i < n; ++i) {
+          const std::uint32_t at =
+              waited_from + static_cast<std::uint32_t>(waited * static_cast<std::uint64_t>(i + 1) /
+                                                       static_cast<std::uint64_t>(n));
+          advance_to(at);
+          mv_core_rx(&core, buf[i], at);
+        }
         rx_active = n > 0;
       } else if (rx_active) {
         mv_core_rx_idle(&core, now);  // the UART's IDLE interrupt
         rx_active = false;
       }
-      // The body moves with the wheel speeds the core set; a wall stops it (a collision).
-      if (now != last_ms && sim.world) {
-        sim.world->step((now - last_ms) / 1000.0);
-        const auto& truth = sim.world->pose();
-        sim.pose = {truth.x, truth.y, truth.heading * 180.0 / marvin::navigation::kPi};
-        last_ms = now;
-      } else if (now != last_ms) {
-        double dt = (now - last_ms) / 1000.0;
-        bool moved =
-            marvin::mcusim::step_body(sim.room, sim.pose, wheel_m_s(sim, 0), wheel_m_s(sim, 1), dt);
-        bool pushing = !moved && (sim.speed[0] || sim.speed[1]);
-        if (pushing && !sim.touching) {
-          ++sim.collisions;
-          std::fprintf(stderr, "marvin-mcu-sim: collision at (%.2f, %.2f)\n", sim.pose.x,
-                       sim.pose.y);
-        }
-        sim.touching = pushing;
-        last_ms = now;
-      }
-      mv_core_tick(&core, now);
+      advance_to(now);
       std::uint8_t angle;
       if (mv_core_ping_due(&core, now, &angle)) {
         if (sim.world) {

@@ -76,6 +76,37 @@ TEST_CASE("serial body drives marvin-mcu-sim to a wall, stops by itself, survive
   SerialBody body(options, SweepSettings{0, 30, 15});
   int cb = body.link().add_telemetry_callback([&](const Telemetry& t) { rec.on(t); });
   int scb = body.link().add_state_callback([&](LinkState, const std::string&) { rec.poke(); });
+  // What the wheels were told, as dead reckoning hears it (MotorBase's observer).
+  std::mutex told_mu;
+  std::vector<MotorBase::WheelCommand> told;
+  body.motors().set_observer([&](const MotorBase::WheelCommand& c) {
+    std::lock_guard lock(told_mu);
+    told.push_back(c);
+  });
+  auto told_so_far = [&] {
+    std::lock_guard lock(told_mu);
+    return told;
+  };
+  // One drive as told: its frames (the first and each refresh), in time order, then speed 0
+  // (the stop; the MCU may report stopping more than once: refresh frames already on their
+  // way when it stopped for an obstacle are refused, each with a fault).
+  auto check_drive = [](const std::vector<MotorBase::WheelCommand>& commands, Direction direction,
+                        int speed) {
+    std::size_t stop = 0;
+    while (stop < commands.size() && commands[stop].speed != 0) ++stop;
+    CHECK(stop >= 1);
+    CHECK(stop < commands.size());
+    for (std::size_t i = 0; i < commands.size(); ++i) {
+      CAPTURE(i);
+      if (i < stop) {
+        CHECK(commands[i].direction == direction);
+        CHECK(commands[i].speed == speed);
+      } else {
+        CHECK(commands[i].speed == 0);
+      }
+      if (i > 0) CHECK(commands[i - 1].at <= commands[i].at);
+    }
+  };
 
   // Connected and talking: status telemetry arrives.
   REQUIRE(rec.wait([&] { return rec.statuses >= 2; }));
@@ -111,6 +142,12 @@ TEST_CASE("serial body drives marvin-mcu-sim to a wall, stops by itself, survive
   CHECK(s.value("clearance_m", 0.0) > 0.15);  // and stopped with the body clear of the wall
   CHECK(s.value("leds", 0) == MV_LED_YELLOW);
   CHECK_FALSE(body.motors().driving());
+  // Told: the drive's frames (its first and each refresh), then the MCU's own stop.
+  CHECK(rec.wait([&] {
+    const auto t = told_so_far();
+    return !t.empty() && t.back().speed == 0;
+  }));
+  check_drive(told_so_far(), Direction::kForward, 150);
   // The scan is the median of each angle's last 5 readings: it shows the wall once enough
   // readings from the stopped body have come in, which on a loaded machine is after the stop.
   std::vector<ScanPoint> scan;
@@ -128,6 +165,11 @@ TEST_CASE("serial body drives marvin-mcu-sim to a wall, stops by itself, survive
     return body.link().state() == LinkState::kDisconnected && body.link().counters().losses >= 1;
   }));
   CHECK_FALSE(body.link().send_locomotion(MV_LEFT_FORWARD, 10));
+  // A drive while the link is down reaches no wheel: nothing is told.
+  const std::size_t told_while_up = told_so_far().size();
+  body.move(Direction::kForward, 90, 1s);
+  body.stop();
+  CHECK(told_so_far().size() == told_while_up);
 
   // ... and comes back at the same path: the link reconnects and the body works again.
   auto statuses_before = rec.statuses;
@@ -137,6 +179,7 @@ TEST_CASE("serial body drives marvin-mcu-sim to a wall, stops by itself, survive
   CHECK(rec.wait([&] { return read_state(state).value("leds", 0) == MV_LED_YELLOW; }));  // resent
   body.tilt_head(20);
   REQUIRE(rec.wait([&] { return rec.status && rec.status->head_deg == 20; }));
+  const std::size_t told_before_back = told_so_far().size();
   body.move(Direction::kBackward, 100, 400ms);
   REQUIRE(rec.wait(
       [&] { return rec.status && rec.status->left_backward && rec.status->left_speed == 100; }));
@@ -144,7 +187,16 @@ TEST_CASE("serial body drives marvin-mcu-sim to a wall, stops by itself, survive
   REQUIRE(rec.wait(
       [&] { return rec.status && rec.status->left_speed == 0 && rec.status->right_speed == 0; }));
   CHECK(read_state(state).value("x", 0.0) < 0.0);
+  // Told: that drive, then STOP_ALL when its duration ended.
+  CHECK(rec.wait([&] {
+    const auto t = told_so_far();
+    return t.size() > told_before_back && t.back().speed == 0;
+  }));
+  auto back = told_so_far();
+  back.erase(back.begin(), back.begin() + static_cast<std::ptrdiff_t>(told_before_back));
+  check_drive(back, Direction::kBackward, 100);
 
+  body.motors().set_observer({});
   body.link().remove_callback(cb);
   body.link().remove_callback(scb);
   sim->stop(SIGTERM);

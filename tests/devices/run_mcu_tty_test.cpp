@@ -108,7 +108,7 @@ TEST_CASE("run --sim --mcu-tty: a skill's move drives the simulated base over th
   fs::remove_all(dir);
 }
 
-TEST_CASE("run --sim --mcu-tty --world: going places over the real serial path") {
+TEST_CASE("run --sim --mcu-tty --world: going places over the real serial path, through a stall") {
   // marvin-mcu-sim runs the firmware core in the default home; the host plans on the same
   // world's floor plan and drives by dead reckoning through the tty.
   char tmpl[] = "/tmp/marvin-run-mcu-world-XXXXXX";
@@ -133,11 +133,38 @@ TEST_CASE("run --sim --mcu-tty --world: going places over the real serial path")
                      (dir / "skills").string(), "--mcu-tty", link.string(), "--world", world},
                     host_options);
   host.wait_for_line_containing("[base: connected on");
+  const double start_heading = read_state(state).value("heading_deg", 0.0);
   host.send_line("go to the front door");
+
+  // On the way the host stalls (a busy machine; here SIGSTOP) until the MCU's deadman has
+  // stopped the wheels and the link has been quiet for longer than the host's watchdog
+  // (1.5 s), both on the simulator's clock. The reckoning must follow the body, which
+  // stopped, not the move that was asked for; and the link must be kept.
+  auto wheels = [&](const nlohmann::json& s) {
+    return std::abs(s.value("left", 0)) + std::abs(s.value("right", 0));
+  };
+  // Mid-turn (the trip starts with a half turn), where an error in the reckoning costs most.
+  REQUIRE(eventually(dir, [&] {
+    const auto s = read_state(state);
+    const double turned = std::remainder(s.value("heading_deg", 0.0) - start_heading, 360.0);
+    return wheels(s) > 0 && std::abs(turned) >= 45;
+  }));
+  REQUIRE(::kill(host.pid(), SIGSTOP) == 0);
+  const int stalled_at = read_state(state).value("time_ms", 0);
+  const bool stopped_by_deadman = eventually(dir, [&] {
+    const auto s = read_state(state);
+    return wheels(s) == 0 && s.value("time_ms", 0) - stalled_at >= 2000;
+  });
+  REQUIRE(::kill(host.pid(), SIGCONT) == 0);
+  CHECK(stopped_by_deadman);
+
   host.wait_for_line("Marvin: I'm at the front door, in the hall.");
   host.send_line("where are you");
   host.wait_for_line("Marvin: I'm in the hall.");
   CHECK(exit_code(host.finish()) == 0);
+  INFO("host output:\n" << host.output() << host.errors());
+  const std::string lost = "serial link to " + link.string() + " lost";  // serial_link.cpp
+  CHECK((host.output() + host.errors()).find(lost) == std::string::npos);
 
   // The simulated body is there for real (the world's truth, not the host's reckoning).
   auto s = read_state(state);

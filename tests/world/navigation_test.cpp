@@ -3,6 +3,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
 
 #include "navigation/dead_reckoning.h"
 #include "navigation/navigator.h"
@@ -162,7 +165,7 @@ TEST_CASE("dead reckoning of the commands sent follows the simulated base it dri
   exact.odometry_noise = 0;
   marvin::sim::SimRunner base(w, exact, 1.0);
   auto now = std::chrono::steady_clock::time_point{};
-  marvin::navigation::DeadReckoning dr(base, {0.4, 0.25, 1.0}, start, {}, [&] { return now; });
+  marvin::navigation::DeadReckoning dr(base, {0.4, 0.25, 1.0}, start, [&] { return now; });
   auto run = [&](int ms) {
     base.advance(std::chrono::milliseconds(ms));
     now += std::chrono::milliseconds(ms);
@@ -179,6 +182,69 @@ TEST_CASE("dead reckoning of the commands sent follows the simulated base it dri
   CHECK(marvin::navigation::distance(truth.position(), start.position()) > 0.5);
   CHECK(marvin::navigation::distance(truth.position(), guess.position()) < 0.02);
   CHECK(std::fabs(marvin::navigation::wrap_angle(truth.heading - guess.heading)) < 0.03);
+}
+
+TEST_CASE("dead reckoning of wheel commands: a drive lasts while its frames come, as on the MCU") {
+  // The serial base's form: each command holds for the deadman (300 ms) unless another comes,
+  // as the MCU's deadman holds it; a host that stops refreshing (it stalled) moves the pose no
+  // further than the body moved. Base {0.4 m/s at 255, track 0.25 m, 1 m/s^2}, so from rest
+  // at speed 255: 0.4 s to full speed (0.08 m), 0.4 s to stop again (0.08 m).
+  using marvin::devices::Direction;
+  using marvin::devices::MotorBase;
+  using namespace std::chrono_literals;
+  struct NoBody : marvin::devices::Body {
+    void move(Direction, std::uint8_t, std::chrono::milliseconds) override {}
+    void stop() override {}
+    void tilt_head(int) override {}
+    std::vector<marvin::devices::ScanPoint> latest_scan() override { return {}; }
+    void set_light(marvin::devices::Light) override {}
+  } body;
+  const marvin::navigation::Pose start{1, 2, 0};
+  const auto t0 = std::chrono::steady_clock::time_point{} + 1h;
+  auto now = t0;
+  auto travelled = [&](marvin::navigation::DeadReckoning& dr) {
+    now = t0 + 10s;  // long after every command
+    const auto p = dr.pose();
+    CHECK(std::fabs(p.y - start.y) < 1e-9);  // straight: both sides alike
+    return p.x - start.x;
+  };
+  auto reckoning = [&] {
+    now = t0;
+    return std::make_unique<marvin::navigation::DeadReckoning>(
+        body, marvin::navigation::BaseSpec{0.4, 0.25, 1.0}, start, [&] { return now; });
+  };
+
+  SUBCASE("one frame and no more: 0.3 s of drive, then the stop") {
+    auto dr = reckoning();
+    dr->wheel_command({t0, Direction::kForward, 255}, MotorBase::kDeadman);
+    // Up to 0.3 m/s in 0.3 s (0.045 m), down again in 0.3 s (0.045 m).
+    CHECK(travelled(*dr) == doctest::Approx(0.09).epsilon(0.01));
+  }
+  SUBCASE("refreshed for 1 s, then the host stalls: the drive ends 0.3 s after the last frame") {
+    auto dr = reckoning();
+    for (int ms = 0; ms <= 1000; ms += 100)
+      dr->wheel_command({t0 + std::chrono::milliseconds(ms), Direction::kForward, 255},
+                        MotorBase::kDeadman);
+    // 0.08 m up to speed, 0.9 s at 0.4 m/s (0.36 m) until 1.3 s, 0.08 m to stop.
+    CHECK(travelled(*dr) == doctest::Approx(0.52).epsilon(0.01));
+  }
+  SUBCASE("refreshed for 1 s, then stopped: the drive ends at the stop") {
+    auto dr = reckoning();
+    for (int ms = 0; ms < 1000; ms += 100)
+      dr->wheel_command({t0 + std::chrono::milliseconds(ms), Direction::kForward, 255},
+                        MotorBase::kDeadman);
+    dr->wheel_command({t0 + 1s, Direction::kForward, 0}, MotorBase::kDeadman);
+    // 0.08 m up to speed, 0.6 s at 0.4 m/s (0.24 m), 0.08 m to stop.
+    CHECK(travelled(*dr) == doctest::Approx(0.40).epsilon(0.01));
+  }
+  SUBCASE("frames again after the stall: the body drove before it and after it, not during") {
+    auto dr = reckoning();
+    for (int ms : {0, 100, 200, 300, 400, 500, 2000, 2100, 2200, 2300, 2400, 2500})
+      dr->wheel_command({t0 + std::chrono::milliseconds(ms), Direction::kForward, 255},
+                        MotorBase::kDeadman);
+    // Each burst: 0.08 m up to speed, 0.4 s at 0.4 m/s (0.16 m) until 0.8 s, 0.08 m to stop.
+    CHECK(travelled(*dr) == doctest::Approx(2 * 0.32).epsilon(0.01));
+  }
 }
 
 TEST_CASE("the names a user can say after \"go to\"") {
