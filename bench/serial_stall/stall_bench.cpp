@@ -13,18 +13,22 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 
+#include "devices/mcu_state.h"
 #include "support/child_process.h"
+#include "support/files.h"
 
 namespace fs = std::filesystem;
+using marvin::devices::test::read_state;
+using marvin::devices::test::wheel_speeds;
 using marvin::test_support::ChildOptions;
 using marvin::test_support::ChildProcess;
 using marvin::test_support::ChildStream;
+using marvin::test_support::TempDir;
 using nlohmann::json;
 
 namespace {
@@ -32,15 +36,6 @@ namespace {
 std::string program(const char* variable, const char* built) {
   const char* v = std::getenv(variable);
   return v && *v ? v : built;
-}
-
-json read_state(const fs::path& p) {
-  std::ifstream in(p);
-  try {
-    return in ? json::parse(in) : json();
-  } catch (const json::exception&) {
-    return json();
-  }
 }
 
 // Polls the simulator's state file (written every 100 ms) until `pred` holds; false after
@@ -56,8 +51,6 @@ bool until(const fs::path& state, const std::function<bool(const json&)>& pred,
   return false;
 }
 
-int wheels(const json& s) { return std::abs(s.value("left", 0)) + std::abs(s.value("right", 0)); }
-
 enum class Who { kNobody, kHost, kSimulator };
 enum class When { kMidTurn, kMidLeg };
 
@@ -67,9 +60,8 @@ struct Trip {
 };
 
 Trip go_to_front_door(Who who, When when, int stall_ms) {
-  char tmpl[] = "/tmp/marvin-bench-stall-XXXXXX";
-  if (!::mkdtemp(tmpl)) throw std::runtime_error("mkdtemp failed");
-  const fs::path dir = tmpl, link = dir / "tty", state = dir / "state.json";
+  const TempDir temp;
+  const fs::path dir = temp.path(), link = dir / "tty", state = dir / "state.json";
   fs::create_directories(dir / "skills");
   ChildOptions quiet;
   quiet.out = ChildStream::kNull;
@@ -92,7 +84,7 @@ Trip go_to_front_door(Who who, When when, int stall_ms) {
     const double heading0 = start.value("heading_deg", 0.0), y0 = start.value("y", 0.0);
     until(state, [&](const json& s) {
       const double turned = std::remainder(s.value("heading_deg", 0.0) - heading0, 360.0);
-      if (when == When::kMidTurn) return wheels(s) > 0 && std::abs(turned) >= 45;
+      if (when == When::kMidTurn) return wheel_speeds(s) > 0 && std::abs(turned) >= 45;
       return s.value("left", 0) > 0 && s.value("right", 0) > 0 && y0 - s.value("y", 0.0) >= 0.3;
     });
     const pid_t pid = who == Who::kHost ? host.pid() : sim.pid();
@@ -111,12 +103,11 @@ Trip go_to_front_door(Who who, When when, int stall_ms) {
     return line.rfind("Marvin: I'm at", 0) == 0 || line.rfind("Marvin: Sorry", 0) == 0;
   });
   host.finish();
-  until(state, [](const json& s) { return wheels(s) == 0; });
+  until(state, [](const json& s) { return wheel_speeds(s) == 0; });
   const json end = read_state(state);
   trip.x = end.value("x", 0.0);
   trip.y = end.value("y", 0.0);
   sim.stop(SIGTERM);
-  fs::remove_all(dir);
   return trip;
 }
 

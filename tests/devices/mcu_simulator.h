@@ -1,12 +1,12 @@
 // marvin-mcu-sim for the device integration tests: started on a pseudo-terminal at `link`
-// in the corridor room, writing its body's state to `state`, which the tests read back.
+// in the corridor room, writing its body's state to `state`, which the tests read back
+// (mcu_state.h).
 // Needs MARVIN_MCU_SIM and MARVIN_ROOM (tests/devices/CMakeLists.txt).
 #pragma once
 
 #include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
 
+#include "devices/mcu_state.h"
 #include "support/child_process.h"
 
 namespace marvin::devices::test {
@@ -34,18 +34,6 @@ inline test_support::ChildProcess start_mcu_simulator_in_world(const std::filesy
   return test_support::ChildProcess({MARVIN_MCU_SIM, "--world", world.string(), "--link",
                                      link.string(), "--state", state.string()},
                                     options);
-}
-
-// The simulator's last state, or null while there is none (not written yet, or caught
-// mid-write: read again).
-inline nlohmann::json read_state(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  if (!in) return {};
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return {};
-  }
 }
 
 }  // namespace marvin::devices::test

@@ -23,6 +23,7 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using marvin::devices::test::read_state;
 using marvin::devices::test::start_mcu_simulator;
+using marvin::devices::test::wheel_speeds;
 using marvin::test_support::ChildProcess;
 using marvin::test_support::exit_code;
 
@@ -140,20 +141,17 @@ TEST_CASE("run --sim --mcu-tty --world: going places over the real serial path, 
   // stopped the wheels and the link has been quiet for longer than the host's watchdog
   // (1.5 s), both on the simulator's clock. The reckoning must follow the body, which
   // stopped, not the move that was asked for; and the link must be kept.
-  auto wheels = [&](const nlohmann::json& s) {
-    return std::abs(s.value("left", 0)) + std::abs(s.value("right", 0));
-  };
   // Mid-turn (the trip starts with a half turn), where an error in the reckoning costs most.
   REQUIRE(eventually(dir, [&] {
     const auto s = read_state(state);
     const double turned = std::remainder(s.value("heading_deg", 0.0) - start_heading, 360.0);
-    return wheels(s) > 0 && std::abs(turned) >= 45;
+    return wheel_speeds(s) > 0 && std::abs(turned) >= 45;
   }));
   REQUIRE(::kill(host.pid(), SIGSTOP) == 0);
   const int stalled_at = read_state(state).value("time_ms", 0);
   const bool stopped_by_deadman = eventually(dir, [&] {
     const auto s = read_state(state);
-    return wheels(s) == 0 && s.value("time_ms", 0) - stalled_at >= 2000;
+    return wheel_speeds(s) == 0 && s.value("time_ms", 0) - stalled_at >= 2000;
   });
   REQUIRE(::kill(host.pid(), SIGCONT) == 0);
   CHECK(stopped_by_deadman);
