@@ -37,6 +37,10 @@ constexpr float kDialogueProbability = 0.5F;
 
 // Longer utterances are never a request (a 1 MB line is answered at once).
 constexpr std::size_t kMaxExactWords = 64;
+// No request said or typed is longer: 64 words of 64 bytes. A longer line (a pasted file, a
+// stuck key) is refused before it is normalised, which would otherwise cost time in
+// proportion to its length on every turn it is tried (builtin(), then understand()).
+constexpr std::size_t kMaxUtteranceBytes = 4096;
 
 // Words a dialogue answer may start with before the value: "it's eight", "to Anna".
 constexpr std::array<std::string_view, 9> kAnswerFillers{"it's", "it",  "is",    "its", "to",
@@ -266,6 +270,7 @@ bool means_stop(const std::string& word) {
 }  // namespace
 
 Builtin Interpreter::builtin(std::string_view utterance) const {
+  if (utterance.size() > kMaxUtteranceBytes) return Builtin::kNone;
   Builtin fixed = classify_builtin(utterance);
   if (fixed != Builtin::kNone) return fixed;
   // Yes, no and repeat said in other words ("you got it", "i didn't catch that"): when the
@@ -310,6 +315,7 @@ std::optional<Match> Interpreter::match(std::string_view utterance, const Contex
 
 std::optional<Match> Interpreter::match_exact(std::string_view utterance,
                                               const Context& context) const {
+  if (utterance.size() > kMaxUtteranceBytes) return std::nullopt;
   std::vector<std::string> words = normalize(utterance);
   if (words.size() > kMaxExactWords) return std::nullopt;
   std::size_t skip = 0;
@@ -686,6 +692,11 @@ Match Interpreter::Impl::to_match(const CompiledIntent& intent,
 
 Understanding Interpreter::understand(std::string_view utterance, const Context& context) const {
   Understanding u;
+  if (utterance.size() > kMaxUtteranceBytes) {
+    u.reason = "too long (" + std::to_string(utterance.size()) + " bytes, at most " +
+               std::to_string(kMaxUtteranceBytes) + ")";
+    return u;
+  }
   u.words = normalize(utterance);
   if (u.words.empty()) {
     u.reason = "no words";

@@ -11,6 +11,7 @@
 #include "interpret/phrasing.h"
 #include "interpret/tolerant_matcher.h"
 
+using marvin::interpret::Builtin;
 using marvin::interpret::Context;
 using marvin::interpret::Interpreter;
 using marvin::interpret::SlotType;
@@ -257,11 +258,19 @@ TEST_CASE("bad input: a clear reason, no match, and the interpreter unchanged") 
   Context context = fixed_context();
   CHECK(in.understand("", context).reason == "no words");
   CHECK(in.understand(" ?!, ", context).reason == "no words");
+  std::string many_words;
+  for (int i = 0; i < 65; ++i) many_words += "time ";
+  Understanding wordy = in.understand(many_words, context);
+  CHECK(wordy.outcome == Understanding::Outcome::kNone);
+  CHECK(wordy.reason == "too long (65 words, at most 64)");
   std::string spaced;
   for (int i = 0; i < 200000; ++i) spaced += "time ";  // a 1 MB line
   Understanding long_line = in.understand(spaced, context);
   CHECK(long_line.outcome == Understanding::Outcome::kNone);
-  CHECK(long_line.reason == "too long (200000 words, at most 64)");
+  CHECK(long_line.reason == "too long (1000000 bytes, at most 4096)");
+  CHECK(long_line.words.empty());  // refused before any work on it
+  CHECK(in.builtin("stop" + std::string(5000, ' ')) == Builtin::kNone);
+  CHECK(in.builtin("stop" + std::string(4000, ' ')) == Builtin::kStop);
   CHECK_FALSE(in.match(std::string(1 << 20, 'x'), context));
   std::string binary;
   for (int i = 0; i < 1024; ++i) binary.push_back(static_cast<char>((i * 37) % 256));
