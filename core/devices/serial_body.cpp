@@ -53,6 +53,8 @@ bool SerialBody::wait_connected(std::chrono::milliseconds timeout) {
 }
 
 void SerialBody::move(Direction direction, std::uint8_t speed, std::chrono::milliseconds duration) {
+  // Turning on the spot: what the sonar saw so far is in another direction (sonar_scanner.h).
+  if (direction == Direction::kLeft || direction == Direction::kRight) sonar_.forget_readings();
   motors_.drive(direction, speed, duration);
 }
 void SerialBody::stop() { motors_.stop(); }

@@ -17,7 +17,8 @@ namespace marvin::devices {
 
 // Owns the link and the devices built on it. Reconnects by itself; after each (re)connect
 // it sends the head angle, light and sweep settings again (the MCU may have restarted).
-// An obstacle fault or a lost link ends the current move. Thread-safe.
+// An obstacle fault or a lost link ends the current move; a turn starts the sonar's scan
+// afresh (its readings so far point elsewhere). Thread-safe.
 class SerialBody : public Body {
  public:
   // Opens `tty_path` (retrying until it appears), e.g. /dev/ttyACM0 or a pty link made by

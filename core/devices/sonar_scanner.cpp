@@ -65,6 +65,11 @@ void SonarScanner::add(const SonarReading& r) {
   it->second.time_ms = r.host_time_ms;
 }
 
+void SonarScanner::forget_readings() {
+  std::lock_guard lock(mu_);
+  tracks_.clear();
+}
+
 std::vector<ScanPoint> SonarScanner::latest_scan() const { return latest_scan(steady_ms()); }
 
 std::vector<ScanPoint> SonarScanner::latest_scan(std::int64_t now_ms) const {

@@ -54,6 +54,12 @@ class SonarScanner {
   std::vector<ScanPoint> latest_scan(std::int64_t now_ms) const;
   // Feeds one reading (the link's callback does this; public for tests).
   void add(const SonarReading& reading);
+  // The body turns: every reading so far points elsewhere. A median mixing them with the
+  // next ones would put a wall seen during the turn straight ahead (a host or MCU that
+  // paused mid-turn, so that no new reading came for a while, did that: the robot gave up
+  // "something is in the way" in an empty hall). Each angle starts again from its next
+  // reading; until then the scan has no point for it.
+  void forget_readings();
 
  private:
   struct Track {

@@ -86,6 +86,25 @@ TEST_CASE("the scan keeps one filtered point per angle, drops stale ones, ordere
                        std::invalid_argument);
 }
 
+TEST_CASE("after a turn the scan holds only what the sonar saw since") {
+  SerialLink link(LinkOptions{"/nonexistent/marvin-tty"});
+  SonarScanner scanner(link, 5, std::chrono::milliseconds(3000));
+  // During the turn, a wall 0.6 m away at 30 degrees down, three times.
+  for (std::int64_t t : {1000, 1140, 1280}) scanner.add({30, 600, true, 0, t});
+  scanner.add({0, 1500, true, 0, 1300});
+  scanner.forget_readings();
+  CHECK(scanner.latest_scan(1400).empty());  // nothing read since: no point, not a stale one
+  // Facing the new way: the floor at 1.7 m. Without forgetting, the median of five would
+  // still be the wall (600, 600, 600, 1700, 1720 -> 600).
+  scanner.add({30, 1700, true, 0, 1500});
+  scanner.add({30, 1720, true, 0, 1640});
+  auto scan = scanner.latest_scan(1700);
+  REQUIRE(scan.size() == 1);
+  CHECK(scan[0].angle_deg == 30);
+  CHECK(scan[0].distance_m == doctest::Approx(1.7));
+  CHECK(scan[0].time_ms == 1640);
+}
+
 TEST_CASE("wheel codes and light bits") {
   CHECK(MotorBase::wheel_codes(Direction::kForward) ==
         std::pair<std::uint8_t, std::uint8_t>{MV_LEFT_FORWARD, MV_RIGHT_FORWARD});
