@@ -52,7 +52,9 @@ bool until(const fs::path& state, const std::function<bool(const json&)>& pred,
 }
 
 enum class Who { kNobody, kHost, kSimulator };
-enum class When { kMidTurn, kMidLeg };
+// Mid-turn: 45 degrees into the half turn; turn's end: 150 degrees into it, where the sonar's
+// readings from the turn were once taken for what lies ahead; mid-leg: 0.3 m along the leg.
+enum class When { kMidTurn, kTurnEnd, kMidLeg };
 
 struct Trip {
   double x = 0, y = 0, stalled_ms = 0;
@@ -85,6 +87,7 @@ Trip go_to_front_door(Who who, When when, int stall_ms) {
     until(state, [&](const json& s) {
       const double turned = std::remainder(s.value("heading_deg", 0.0) - heading0, 360.0);
       if (when == When::kMidTurn) return wheel_speeds(s) > 0 && std::abs(turned) >= 45;
+      if (when == When::kTurnEnd) return wheel_speeds(s) > 0 && std::abs(turned) >= 150;
       return s.value("left", 0) > 0 && s.value("right", 0) > 0 && y0 - s.value("y", 0.0) >= 0.3;
     });
     const pid_t pid = who == Who::kHost ? host.pid() : sim.pid();
@@ -127,12 +130,16 @@ int main() {
   const Case cases[] = {
       {Who::kHost, When::kMidTurn, 600},      {Who::kHost, When::kMidTurn, 2000},
       {Who::kHost, When::kMidLeg, 600},       {Who::kHost, When::kMidLeg, 2000},
-      {Who::kSimulator, When::kMidTurn, 600}, {Who::kSimulator, When::kMidLeg, 600}};
+      {Who::kHost, When::kTurnEnd, 600},      {Who::kSimulator, When::kMidTurn, 600},
+      {Who::kSimulator, When::kTurnEnd, 600}, {Who::kSimulator, When::kMidLeg, 600}};
   for (const Case& c : cases) {
     const Trip t = go_to_front_door(c.who, c.when, c.ms);
     std::printf("%-10s %-9s %9.0f   (%6.3f, %6.3f) %10.3f  %s\n",
                 c.who == Who::kHost ? "host" : "simulator",
-                c.when == When::kMidTurn ? "mid-turn" : "mid-leg", t.stalled_ms, t.x, t.y,
+                c.when == When::kMidTurn  ? "mid-turn"
+                : c.when == When::kTurnEnd ? "turn-end"
+                                           : "mid-leg",
+                t.stalled_ms, t.x, t.y,
                 std::hypot(t.x - base.x, t.y - base.y), t.answer.c_str());
   }
   return 0;
