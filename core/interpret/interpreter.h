@@ -181,9 +181,9 @@ class Interpreter {
   // templates and examples, plus out-of-scope sentences) combined with tolerant template
   // matching (tolerant_matcher.h) for the slots. Accepted when the model is sure enough
   // (kAcceptProbability) and out of scope is not likelier; kAsk when the top two intents
-  // are close and together likely; else kNone. An utterance of more than 64 words, of more
-  // than 4096 bytes or with no words is kNone. Deterministic: the same intents give the same model
-  // and answers.
+  // are close and together likely; else kNone. An utterance with no words, more than 64
+  // words or more than 4096 bytes is kNone. Deterministic: the same intents give the same
+  // model and answers.
   Understanding understand(std::string_view utterance, const Context& context) const;
 
   // Builds the intent model now (it is otherwise built by the first understand()/match()
