@@ -24,6 +24,7 @@
 
 namespace fs = std::filesystem;
 using marvin::devices::test::read_state;
+using marvin::devices::test::turned_deg;
 using marvin::devices::test::wheel_speeds;
 using marvin::test_support::ChildOptions;
 using marvin::test_support::ChildProcess;
@@ -85,7 +86,7 @@ Trip go_to_front_door(Who who, When when, int stall_ms) {
   if (who != Who::kNobody) {
     const double heading0 = start.value("heading_deg", 0.0), y0 = start.value("y", 0.0);
     until(state, [&](const json& s) {
-      const double turned = std::remainder(s.value("heading_deg", 0.0) - heading0, 360.0);
+      const double turned = turned_deg(s, heading0);
       if (when == When::kMidTurn) return wheel_speeds(s) > 0 && std::abs(turned) >= 45;
       if (when == When::kTurnEnd) return wheel_speeds(s) > 0 && std::abs(turned) >= 150;
       return s.value("left", 0) > 0 && s.value("right", 0) > 0 && y0 - s.value("y", 0.0) >= 0.3;

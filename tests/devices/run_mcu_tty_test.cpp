@@ -23,6 +23,7 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using marvin::devices::test::read_state;
 using marvin::devices::test::start_mcu_simulator;
+using marvin::devices::test::turned_deg;
 using marvin::devices::test::wheel_speeds;
 using marvin::test_support::ChildProcess;
 using marvin::test_support::exit_code;
@@ -144,8 +145,7 @@ TEST_CASE("run --sim --mcu-tty --world: going places over the real serial path, 
   // Mid-turn (the trip starts with a half turn), where an error in the reckoning costs most.
   REQUIRE(eventually(dir, [&] {
     const auto s = read_state(state);
-    const double turned = std::remainder(s.value("heading_deg", 0.0) - start_heading, 360.0);
-    return wheel_speeds(s) > 0 && std::abs(turned) >= 45;
+    return wheel_speeds(s) > 0 && std::abs(turned_deg(s, start_heading)) >= 45;
   }));
   REQUIRE(::kill(host.pid(), SIGSTOP) == 0);
   const int stalled_at = read_state(state).value("time_ms", 0);
