@@ -20,35 +20,21 @@
 
 #include <marvin/skill.hpp>
 
+#include "common/spoken_text.h"
+
 namespace {
+
+using marvin::builtin::join_and;
+using marvin::builtin::lower;
 
 using nlohmann::json;
 
 constexpr std::uint32_t kEnrolFrames = 5;
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 // "anna's" -> "Anna"; "anna maria" -> "Anna Maria".
 std::string person_name(std::string s) {
   if (s.size() > 2 && s.compare(s.size() - 2, 2, "'s") == 0) s.resize(s.size() - 2);
-  bool start = true;
-  for (char& c : s) {
-    if (start) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    start = c == ' ';
-  }
-  return s;
-}
-
-std::string join_and(const std::vector<std::string>& parts) {
-  std::string out;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    if (i > 0) out += i + 1 == parts.size() ? " and " : ", ";
-    out += parts[i];
-  }
-  return out;
+  return marvin::builtin::capitalised(s);
 }
 
 // "Anna", "someone I don't know", "two people I don't know".

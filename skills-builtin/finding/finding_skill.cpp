@@ -18,17 +18,18 @@
 
 #include <marvin/skill.hpp>
 
+#include "common/spoken_text.h"
+
 namespace {
+
+using marvin::builtin::capitalised;
+using marvin::builtin::join_and;
+using marvin::builtin::lower;
 
 using nlohmann::json;
 
 // A sighting this recent answers "where is ...?" without searching.
 constexpr std::int64_t kRecentMs = 30 * 60 * 1000;
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 std::string trim_end(std::string s) {
   while (!s.empty() && (s.back() == '?' || s.back() == '.' || s.back() == '!' || s.back() == ' '))
@@ -40,25 +41,6 @@ std::string strip_prefix(std::string s, const char* prefix) {
   const std::string p = prefix;
   if (s.rfind(p, 0) == 0) s.erase(0, p.size());
   return s;
-}
-
-// "anna" -> "Anna", "anna maria" -> "Anna Maria".
-std::string capitalised(std::string s) {
-  bool start = true;
-  for (char& c : s) {
-    if (start) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    start = c == ' ';
-  }
-  return s;
-}
-
-std::string join_and(const std::vector<std::string>& parts) {
-  std::string out;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    if (i > 0) out += i + 1 == parts.size() ? " and " : ", ";
-    out += parts[i];
-  }
-  return out;
 }
 
 // "10 minutes ago", "just now", "2 hours ago".

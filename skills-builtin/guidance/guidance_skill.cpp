@@ -24,7 +24,11 @@
 #include <utility>
 #include <vector>
 
+#include "common/spoken_text.h"
+
 namespace {
+
+using marvin::builtin::capital;
 
 using nlohmann::json;
 
@@ -51,11 +55,6 @@ std::string metres(double m) {
   char buf[32];
   std::snprintf(buf, sizeof buf, r == std::floor(r) ? "%.0f metres" : "%.1f metres", r);
   return buf;
-}
-
-std::string capital(std::string s) {
-  if (!s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));
-  return s;
 }
 
 struct Ahead {

@@ -14,19 +14,17 @@
 #include <string>
 #include <vector>
 
+#include "common/spoken_text.h"
 #include "resolve.h"
 
 namespace {
+
+using marvin::builtin::capital;
 
 using marvin_home_skill::Resolution;
 using nlohmann::json;
 
 constexpr int kStep = 25;  // "brighter": a quarter of the range
-
-std::string capital(std::string s) {
-  if (!s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));
-  return s;
-}
 
 class HomeSkill : public marvin::Skill {
  public:

@@ -13,7 +13,11 @@
 #include <optional>
 #include <string>
 
+#include "common/spoken_text.h"
+
 namespace {
+
+using marvin::builtin::lower;
 
 using nlohmann::json;
 
@@ -21,11 +25,6 @@ constexpr std::chrono::seconds kPoll{1};
 // Longer than the host's own "not answering" timeout (30 s): only reached if the host
 // never says how the call went.
 constexpr int kMaxQuietPolls = 45;
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 bool is_yes(const std::string& answer) {
   const std::string a = lower(answer);

@@ -25,17 +25,19 @@
 #include <date/tz.h>
 #include <marvin/skill.hpp>
 
+#include "common/spoken_text.h"
+
 namespace {
+
+using marvin::builtin::capital;
+using marvin::builtin::capitalised;
+using marvin::builtin::join_and;
+using marvin::builtin::lower;
 
 using nlohmann::json;
 
 constexpr const char* kWeekdayNames[] = {"monday", "tuesday", "wednesday", "thursday",
                                          "friday", "saturday", "sunday"};
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 std::vector<std::string> words_of(const std::string& text) {
   std::vector<std::string> out;
@@ -63,17 +65,6 @@ std::string second_person(const std::string& text) {
     else if (w == "mine") t = "yours";
     if (!out.empty()) out += ' ';
     out += t;
-  }
-  return out;
-}
-
-// "anna schmidt" -> "Anna Schmidt" (the interpreter hands text slots in lower case).
-std::string capitalised(const std::string& text) {
-  std::string out = text;
-  bool start = true;
-  for (char& c : out) {
-    if (start) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    start = c == ' ' || c == '-';
   }
   return out;
 }
@@ -120,11 +111,6 @@ std::string spoken_time(int minute_of_day) {
 
 unsigned monday_based(date::local_days day) { return (date::weekday{day}.c_encoding() + 6) % 7; }
 
-std::string capital(std::string s) {
-  if (!s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));
-  return s;
-}
-
 // "today", "tomorrow" or "on Monday, 7 December".
 std::string spoken_day(date::local_days day, date::local_days today) {
   if (day == today) return "today";
@@ -132,15 +118,6 @@ std::string spoken_day(date::local_days day, date::local_days today) {
   const date::year_month_day ymd{day};
   return "on " + capital(kWeekdayNames[monday_based(day)]) + ", " +
          std::to_string(static_cast<unsigned>(ymd.day())) + " " + date::format("%B", ymd.month());
-}
-
-std::string join_and(const std::vector<std::string>& parts) {
-  std::string out;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    if (i > 0) out += i + 1 == parts.size() ? " and " : ", ";
-    out += parts[i];
-  }
-  return out;
 }
 
 std::vector<std::string> weekdays_of(const json& recurrence) {

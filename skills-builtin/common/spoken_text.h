@@ -1,0 +1,45 @@
+// Small text helpers the built-in skills share for what they hear and say. Header-only, so
+// each skill's shared library keeps its own copy and the skills stay independent of each
+// other. ASCII only, like the interpreter's slots.
+#pragma once
+
+#include <cctype>
+#include <string>
+#include <vector>
+
+namespace marvin::builtin {
+
+// "Turn On" -> "turn on".
+inline std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// "the kitchen light is on" -> "The kitchen light is on".
+inline std::string capital(std::string s) {
+  if (!s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));
+  return s;
+}
+
+// A name as the interpreter hands it (lower case) as it is written: "anna maria" ->
+// "Anna Maria", "jean-luc" -> "Jean-Luc".
+inline std::string capitalised(std::string s) {
+  bool start = true;
+  for (char& c : s) {
+    if (start) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    start = c == ' ' || c == '-';
+  }
+  return s;
+}
+
+// {"Anna", "Ben", "Carl"} -> "Anna, Ben and Carl"; one part alone; none -> "".
+inline std::string join_and(const std::vector<std::string>& parts) {
+  std::string out;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (i > 0) out += i + 1 == parts.size() ? " and " : ", ";
+    out += parts[i];
+  }
+  return out;
+}
+
+}  // namespace marvin::builtin
