@@ -1,0 +1,19 @@
+// The text helpers the built-in skills share (skills-builtin/common/spoken_text.h).
+#include <doctest/doctest.h>
+
+#include "common/spoken_text.h"
+
+namespace builtin = marvin::builtin;
+
+TEST_CASE("spoken text: names are written as names, lists are said with \"and\"") {
+  CHECK(builtin::lower("Turn ON the Light") == "turn on the light");
+  CHECK(builtin::capital("the door is locked") == "The door is locked");
+  CHECK(builtin::capital("") == "");
+  CHECK(builtin::capitalised("anna maria") == "Anna Maria");
+  CHECK(builtin::capitalised("jean-luc picard") == "Jean-Luc Picard");
+  CHECK(builtin::capitalised("o'brien") == "O'brien");  // only after a space or a hyphen
+  CHECK(builtin::join_and({}) == "");
+  CHECK(builtin::join_and({"Anna"}) == "Anna");
+  CHECK(builtin::join_and({"Anna", "Ben"}) == "Anna and Ben");
+  CHECK(builtin::join_and({"Anna", "Ben", "Carl"}) == "Anna, Ben and Carl");
+}
