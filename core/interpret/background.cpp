@@ -282,6 +282,12 @@ const std::vector<std::string>& background_sentences() {
       "how would i say good morning in portuguese", "teach me to say hi in korean",
       "how do people say good evening in russian", "what does bonjour mean",
       "what is the polite greeting in thailand",
+      // Thanks and goodbyes mentioned, not said, since the hello skill answers both.
+      "how do i thank someone in dutch", "what is thanks in german",
+      "how would you say see you tomorrow in italian", "teach me to say goodbye in greek",
+      "translate thank you so much into japanese", "what does merci mean",
+      "what does auf wiedersehen mean", "how do people say bye in hindi",
+      "how do you write good night in arabic", "the word for cheers in swedish",
       // Alerts on events in the world, not at a time: no skill watches prices or parcels.
       "alert me when bitcoin drops below 20000", "notify me when my parcel ships",
       "let me know if it starts to rain later", "tell me when petrol gets cheaper",

@@ -1,5 +1,7 @@
-// Built-in skill "hello": answers a greeting, and says who Marvin is and what it can do
-// ("hello" -> "Hello! What can I do for you?"; "who are you" -> a short introduction).
+// Built-in skill "hello": the courtesies, and who Marvin is and what it can do.
+// "hello" -> "Hello! What can I do for you?"; "thank you" -> "You're welcome."; "goodbye" and
+// "good night" get a goodbye; "who are you" or "what can you do" -> a short introduction
+// naming what the built-in skills do.
 #include <marvin/skill.hpp>
 #include <string>
 
@@ -12,10 +14,19 @@ class HelloSkill : public marvin::Skill {
   void handle(const marvin::Request& request) override {
     if (request.intent == "hello") {
       robot().say("Hello! What can I do for you?");
+    } else if (request.intent == "thanks") {
+      robot().say("You're welcome.");
+    } else if (request.intent == "goodbye") {
+      const bool night = request.utterance.find("night") != std::string::npos ||
+                         request.utterance.find("sleep") != std::string::npos;
+      robot().say(night ? "Good night. Sleep well."
+                        : "Goodbye. Just say my name when you need me.");
     } else if (request.intent == "about") {
       robot().say(
-          "I'm Marvin, your home robot. I can tell you the time and the date, set reminders, "
-          "alarms and timers, and read you your schedule. Just ask.");
+          "I'm Marvin, your home robot. I can tell you the time, keep your reminders, timers "
+          "and schedule, recognise the people you introduce to me, find people and things, "
+          "keep watch while you're out, guide you through the house, switch lights and "
+          "devices, and make phone calls. Just ask.");
     } else {
       throw marvin::Error(MARVIN_ERR_INVALID, "unknown intent '" + request.intent + "'");
     }

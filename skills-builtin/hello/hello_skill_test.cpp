@@ -1,0 +1,29 @@
+// The built-in hello skill, loaded from the build tree: the courtesies and the introduction.
+#include <doctest/doctest.h>
+
+#include <marvin/testing/skill_harness.hpp>
+
+using Lines = std::vector<std::string>;
+
+TEST_CASE("hello, thank you and goodbye each get their own answer") {
+  marvin::testing::SkillHarness harness(HELLO_SKILL_DIR);
+  CHECK(harness.say("hello marvin") == Lines{"Hello! What can I do for you?"});
+  CHECK(harness.say("thank you very much") == Lines{"You're welcome."});
+  CHECK(harness.say("cheers robot") == Lines{"You're welcome."});
+  CHECK(harness.say("bye for now") == Lines{"Goodbye. Just say my name when you need me."});
+  CHECK(harness.say("see you tomorrow") == Lines{"Goodbye. Just say my name when you need me."});
+  CHECK(harness.say("good night marvin") == Lines{"Good night. Sleep well."});
+}
+
+TEST_CASE("what can you do: the introduction names every built-in capability") {
+  marvin::testing::SkillHarness harness(HELLO_SKILL_DIR);
+  const Lines answer = harness.say("what can you do");
+  REQUIRE(answer.size() == 1);
+  for (const char* capability :
+       {"time", "reminders", "timers", "schedule", "recognise", "find people and things",
+        "keep watch", "guide", "lights", "phone calls"}) {
+    CAPTURE(capability);
+    CHECK(answer[0].find(capability) != std::string::npos);
+  }
+  CHECK(harness.say("who are you") == answer);
+}
