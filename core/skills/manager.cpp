@@ -281,8 +281,16 @@ std::string Manager::describe(const interpret::Match& match) const {
 std::optional<interpret::Match> Manager::clarify(const std::vector<interpret::Match>& choices) {
   if (choices.size() < 2) return std::nullopt;
   const interpret::Interpreter& interpreter = registry_.interpreter();
-  const std::string first = describe(choices[0]);
-  const std::string second = describe(choices[1]);
+  std::string first = describe(choices[0]);
+  std::string second = describe(choices[1]);
+  if (first == second) {  // two skills with the same intent ("a hello"): name the skills too
+    auto skill_name = [&](const interpret::Match& m) {
+      const LoadedSkill* skill = registry_.find(m.skill_id);
+      return skill ? skill->manifest.name : m.skill_id;
+    };
+    first += " (" + skill_name(choices[0]) + ")";
+    second += " (" + skill_name(choices[1]) + ")";
+  }
   std::optional<std::string> answer = ask("Did you want " + first + " or " + second + "?");
   if (!answer) return std::nullopt;
   switch (interpreter.builtin(*answer)) {

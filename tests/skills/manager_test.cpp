@@ -483,6 +483,21 @@ TEST_CASE("unsure between two skills: ask; 'no' goes back to listening, a choice
         Lines{question, "Sorry, I didn't get that. Please ask me again."});
 }
 
+TEST_CASE("unsure between two skills whose intents have the same description: the skills named") {
+  Dialogue d;
+  std::string a = kLampA, b = kLampB;
+  a.replace(a.find("the desk lamp"), 13, "the light");
+  b.replace(b.find("the ceiling light"), 17, "the light");
+  d.registry.add_native(manifest(a.c_str()), marvin::skill_descriptor<Glower>("lamp-a"));
+  d.registry.add_native(manifest(b.c_str()), marvin::skill_descriptor<Glower>("lamp-b"));
+  const std::string a_first = "Did you want the light (Lamp A) or the light (Lamp B)?";
+  const std::string b_first = "Did you want the light (Lamp B) or the light (Lamp A)?";
+  const Lines said = d.turn("the room is too dim", {"the first one"});
+  REQUIRE(said.size() == 2);
+  REQUIRE((said[0] == a_first || said[0] == b_first));
+  CHECK(said[1] == (said[0] == a_first ? "Glowing: glow" : "Glowing: shine"));
+}
+
 TEST_CASE("bad input gets a clear answer and runs nothing") {
   Dialogue d;
   const std::string no_match = d.turn("what is the meaning of life").at(0);

@@ -151,6 +151,26 @@ Interpreter builtin_interpreter() {
 
 }  // namespace
 
+// When Marvin cannot tell two intents apart it asks "Did you want <description> or
+// <description>?"; without a description it would have to say "Finding people and things
+// (anyone in)".
+TEST_CASE("every shipped intent has a description to ask with") {
+  const fs::path repo = MARVIN_REPO_DIR;
+  int intents = 0;
+  for (const fs::path& folder : {repo / "skills-builtin", repo / "skills-examples" / "lua"}) {
+    for (const auto& entry : fs::directory_iterator(folder)) {
+      if (!fs::exists(entry.path() / "skill.json")) continue;
+      const marvin::skills::Manifest m = marvin::skills::load_manifest(entry.path() / "skill.json");
+      for (const auto& intent : m.intents) {
+        CAPTURE(m.id + "/" + intent.name);
+        CHECK_FALSE(intent.description.empty());
+        ++intents;
+      }
+    }
+  }
+  CHECK(intents > 60);
+}
+
 // A guard against fitting the development set: requests written for this test alone
 // (tests/interpret/heldout_requests.tsv, never in a manifest) keep the goals' rates with every
 // built-in skill loaded, as `marvin run` loads them. A question naming the right intent counts
