@@ -119,6 +119,9 @@ std::string with_article(std::string_view spoken) {
 
 std::optional<std::string> coco_class_for(std::string_view word) {
   const std::string w = lower(word);
+  // "My glasses" are spectacles, which COCO has no class for: looking for wine glasses
+  // instead would be wrong, and a taught object can be ("these are my glasses").
+  if (w == "glasses") return std::nullopt;
   auto match = [&](const std::string& candidate) -> bool {
     return w == candidate || w == spoken_plural(candidate);
   };

@@ -30,7 +30,8 @@ std::string with_article(std::string_view spoken);
 
 // The COCO class a user's word means: "phone", "mobile", "cell phone" -> "cell phone",
 // "tv", "telly", "television" -> "tv"; nullopt for a word that names no class. Case and a
-// trailing plural "s" do not matter.
+// trailing plural "s" do not matter. "glasses" alone names no class (spectacles), though
+// "glass" and "wine glasses" do.
 std::optional<std::string> coco_class_for(std::string_view word);
 
 // Every word and phrase coco_class_for() accepts (for the speech recogniser's vocabulary).

@@ -171,6 +171,21 @@ TEST_CASE("every shipped intent has a description to ask with") {
   CHECK(intents > 60);
 }
 
+TEST_CASE("where did I leave it: the thing, not the words before it, is what to look for") {
+  const Interpreter in = builtin_interpreter();
+  for (const auto& [text, thing] : std::vector<std::pair<std::string, std::string>>{
+           {"where did I leave my glasses", "my glasses"},
+           {"where have I put my keys?", "my keys"},
+           {"where did my purse go", "my purse"},
+           {"where has the remote gone", "the remote"}}) {
+    CAPTURE(text);
+    const auto m = in.match(text, context());
+    REQUIRE(m);
+    CHECK(m->skill_id + "/" + m->intent == "finding/where_is");
+    CHECK(m->slots.at("what").text == thing);
+  }
+}
+
 // A guard against fitting the development set: requests written for this test alone
 // (tests/interpret/heldout_requests.tsv, never in a manifest) keep the goals' rates with every
 // built-in skill loaded, as `marvin run` loads them. A question naming the right intent counts

@@ -200,6 +200,10 @@ TEST_CASE("the names people use for COCO classes, both ways") {
   CHECK(coco_class_for("table") == "dining table");
   CHECK(coco_class_for("chairs") == "chair");
   CHECK(coco_class_for("keys") == std::nullopt);
+  CHECK(coco_class_for("glass") == "wine glass");
+  CHECK(coco_class_for("wine glasses") == "wine glass");
+  CHECK(coco_class_for("glasses") == std::nullopt);  // spectacles
+  CHECK(coco_class_for("reading glasses") == std::nullopt);
   const auto words = object_words();
   for (const char* w : {"phone", "remote control", "television", "tv", "table", "cup", "bottle"}) {
     CHECK_MESSAGE(has(words, w), w);
