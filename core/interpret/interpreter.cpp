@@ -52,12 +52,12 @@ constexpr std::size_t kAnswerTextMaxWords = 24;
 class IntentSlotReader final : public SlotReader {
  public:
   IntentSlotReader(const CompiledIntent& intent, const Context& context,
-                   const ContactBook& contacts)
-      : intent_(intent), context_(context), contacts_(contacts) {}
+                   const ContactBook& contacts, TimeCue cue)
+      : intent_(intent), context_(context), contacts_(contacts), cue_(cue) {}
 
   std::optional<SlotValue> read(int slot, std::span<const std::string> words) const override {
     return read_slot_value(intent_.slots[static_cast<std::size_t>(slot)], words, context_,
-                           contacts_, kTextSlotMaxWords);
+                           contacts_, kTextSlotMaxWords, cue_);
   }
   bool is_text(int slot) const override {
     return intent_.slots[static_cast<std::size_t>(slot)].spec.type == SlotType::kText;
@@ -70,6 +70,7 @@ class IntentSlotReader final : public SlotReader {
   const CompiledIntent& intent_;
   const Context& context_;
   const ContactBook& contacts_;
+  const TimeCue cue_;
 };
 
 std::string template_error(const IntentSpec& spec, std::string_view text, std::size_t column,
@@ -352,16 +353,19 @@ std::optional<Match> Interpreter::match_exact(std::string_view utterance,
 }
 
 std::optional<SlotValue> Interpreter::parse_slot(const SlotSpec& slot, std::string_view answer,
-                                                 const Context& context) const {
+                                                 const Context& context,
+                                                 std::string_view request) const {
   PreparedSlot prepared = prepare_slot(slot);
   ContactBook contacts(context.contact_names);
+  const TimeCue cue =
+      request.size() > kMaxUtteranceBytes ? TimeCue{} : time_cue(normalize(request));
   std::vector<std::string> words = normalize(answer);
   if (words.size() >= 2 && words.back() == "please") words.pop_back();
   std::size_t begin = 0;
   // Try the answer as given, then without up to two leading fillers ("it's", "to", ...).
   for (int attempt = 0; attempt < 3 && begin < words.size(); ++attempt) {
     std::span<const std::string> span(words.data() + begin, words.size() - begin);
-    if (auto value = read_slot_value(prepared, span, context, contacts, kAnswerTextMaxWords)) {
+    if (auto value = read_slot_value(prepared, span, context, contacts, kAnswerTextMaxWords, cue)) {
       return value;
     }
     if (std::find(kAnswerFillers.begin(), kAnswerFillers.end(), words[begin]) ==
@@ -662,9 +666,10 @@ std::vector<std::optional<TemplateMatch>> Interpreter::Impl::exact_matches(
     if (ids[i] != Vocabulary::kUnknown) present[static_cast<std::size_t>(ids[i])] = 1;
   }
   ContactBook contacts(context.contact_names);
+  const TimeCue cue = time_cue(words);
   for (std::size_t k = 0; k < intents.size(); ++k) {
     const CompiledIntent& intent = intents[k];
-    IntentSlotReader reader(intent, context, contacts);
+    IntentSlotReader reader(intent, context, contacts, cue);
     for (const CompiledTemplate& compiled : intent.templates) {
       if (words.size() < compiled.min_words || words.size() > compiled.max_words) continue;
       bool has_all =
@@ -781,10 +786,11 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   }
   TolerantInput input{u.request, ids, stems};
   ContactBook contacts(context.contact_names);
+  const TimeCue cue = time_cue(u.request);
   std::vector<std::optional<TolerantMatch>> parses(order.size());
   for (std::size_t r = 0; r < order.size() && r < kTolerantCandidates; ++r) {
     const CompiledIntent& intent = impl.intents[order[r]];
-    IntentSlotReader reader(intent, context, contacts);
+    IntentSlotReader reader(intent, context, contacts, cue);
     for (const CompiledTemplate& compiled : intent.templates) {
       auto m =
           match_tolerant(compiled, input, state->word_stems, state->synonyms[order[r]], reader);

@@ -192,10 +192,12 @@ class Interpreter {
 
   // Parses a dialogue answer as one value of `slot` ("at eight" for a datetime, "Anna" for
   // a contact). Up to two leading fillers ("it's", "to", "for", "the", ...) and a trailing
-  // "please" are tolerated; a text answer may hold up to 24 words. nullopt when the answer
-  // is not a value of that type. Throws like match() on an unknown time zone.
+  // "please" are tolerated; a text answer may hold up to 24 words. `request` is what the
+  // answer completes: "6" answering for "set an alarm" is 6 am, as in "set an alarm for 6".
+  // nullopt when the answer is not a value of that type. Throws like match() on an unknown
+  // time zone.
   std::optional<SlotValue> parse_slot(const SlotSpec& slot, std::string_view answer,
-                                      const Context& context) const;
+                                      const Context& context, std::string_view request = {}) const;
 
  private:
   struct Impl;

@@ -88,9 +88,18 @@ std::optional<std::string> ContactBook::find(std::span<const std::string> words)
   return std::nullopt;
 }
 
+TimeCue time_cue(std::span<const std::string> request) {
+  TimeCue cue;
+  for (const std::string& w : request) {
+    if (w == "wake" || w == "waken" || w == "alarm" || w == "alarms") cue.morning = true;
+  }
+  return cue;
+}
+
 std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
                                          std::span<const std::string> words, const Context& context,
-                                         const ContactBook& contacts, std::size_t text_max_words) {
+                                         const ContactBook& contacts, std::size_t text_max_words,
+                                         TimeCue cue) {
   if (words.empty()) return std::nullopt;
   switch (slot.spec.type) {
     case SlotType::kNumber: {
@@ -111,6 +120,7 @@ std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
     case SlotType::kDateTime: {
       auto phrase = parse_time_phrase(words);
       if (!phrase) return std::nullopt;
+      if (cue.morning && !phrase->evening) phrase->morning = true;
       auto value = resolve_time_phrase(*phrase, context.now_utc_ms, context.time_zone);
       if (!value) return std::nullopt;
       return SlotValue{join(words), std::move(*value)};

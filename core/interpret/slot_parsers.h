@@ -43,10 +43,21 @@ class ContactBook {
 // Most words a contact name may have in an utterance.
 inline constexpr std::size_t kContactMaxWords = 4;
 
+// What the rest of the request says about its time: "wake me at 6" and "set an alarm for 7"
+// mean the morning, though the time itself has no am/pm.
+struct TimeCue {
+  bool morning = false;
+};
+
+// The cue in a whole request's words: "wake", "waken", "alarm" or "alarms" anywhere.
+TimeCue time_cue(std::span<const std::string> request);
+
 // `words` (all of them) as a value of `slot`; nullopt if they are not one.
-// `text_max_words` bounds kText. Throws std::runtime_error for an unknown time zone.
+// `text_max_words` bounds kText; `cue` shifts an hour without am/pm (kDateTime). Throws
+// std::runtime_error for an unknown time zone.
 std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
                                          std::span<const std::string> words, const Context& context,
-                                         const ContactBook& contacts, std::size_t text_max_words);
+                                         const ContactBook& contacts, std::size_t text_max_words,
+                                         TimeCue cue = {});
 
 }  // namespace marvin::interpret

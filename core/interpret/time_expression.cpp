@@ -81,7 +81,7 @@ class TimeReader {
       phrase.in_seconds = *seconds;
       return phrase;
     }
-    bool have_time = false, have_day = false, have_recurrence = false;
+    bool have_time = false, have_day = false, have_recurrence = false, have_part = false;
     while (at_ < w_.size()) {
       std::size_t start = at_;
       // A calendar date first: "3 march" is not the hour 3.
@@ -112,13 +112,28 @@ class TimeReader {
             if (at_ != w_.size() || have_time) return std::nullopt;
             return phrase;
           }
+          if (phrase.default_hour != 0) have_part = true;  // "every morning"
+          continue;
+        }
+        at_ = start;
+      }
+      if (!have_part && !phrase.evening) {
+        bool today = false;
+        if (read_part_of_day(phrase, today)) {
+          have_part = true;
+          if (today) {  // "this evening" is a day too
+            if (have_day || have_recurrence) return std::nullopt;
+            phrase.day_offset = 0;
+            have_day = true;
+          }
           continue;
         }
         at_ = start;
       }
       return std::nullopt;
     }
-    if (!have_time && !have_day && !have_recurrence) return std::nullopt;
+    if (!have_time && !have_day && !have_recurrence && !have_part) return std::nullopt;
+    if (have_part && phrase.range != DayRange::kNone) return std::nullopt;  // "next week morning"
     if (phrase.range != DayRange::kNone && have_time) return std::nullopt;  // "next week at 8"
     return phrase;
   }
@@ -261,6 +276,34 @@ class TimeReader {
       time.ambiguous = true;
     }
     return time;
+  }
+
+  // "morning", "in the afternoon", "this evening", "at night": which half of the clock an
+  // hour without am/pm is in, and the hour meant when no time is said. `today` is set for
+  // "this ...". ("at 8 in the morning" right after a time is read_time_of_day's.)
+  bool read_part_of_day(TimePhrase& phrase, bool& today) {
+    today = accept("this");
+    if (!today) (void)(accept_seq({"in", "the"}) || accept("at"));
+    struct Part {
+      std::string_view word;
+      bool morning;
+      int hour;
+    };
+    static constexpr std::array<Part, 4> kParts{
+        Part{"morning", true, 9}, Part{"afternoon", false, 15}, Part{"evening", false, 19},
+        Part{"night", false, 21}};
+    for (const Part& part : kParts) {
+      if (accept(part.word)) {
+        set_part(phrase, part.morning, part.hour);
+        return true;
+      }
+    }
+    return false;
+  }
+
+  static void set_part(TimePhrase& phrase, bool morning, int hour) {
+    (morning ? phrase.morning : phrase.evening) = true;
+    phrase.default_hour = hour;
   }
 
   bool read_day(TimePhrase& phrase) {
@@ -407,6 +450,21 @@ class TimeReader {
     std::size_t start = at_;
     if (accept("daily") || accept_seq({"every", "day"}) || accept_seq({"each", "day"})) {
       phrase.kind = RecurrenceKind::kDaily;
+      return true;
+    }
+    if (accept_seq({"every", "morning"}) || accept_seq({"each", "morning"})) {
+      phrase.kind = RecurrenceKind::kDaily;
+      set_part(phrase, true, 9);
+      return true;
+    }
+    if (accept_seq({"every", "evening"}) || accept_seq({"each", "evening"})) {
+      phrase.kind = RecurrenceKind::kDaily;
+      set_part(phrase, false, 19);
+      return true;
+    }
+    if (accept_seq({"every", "night"}) || accept_seq({"each", "night"}) || accept("nightly")) {
+      phrase.kind = RecurrenceKind::kDaily;
+      set_part(phrase, false, 21);
       return true;
     }
     if (accept_seq({"every", "weekday"}) || accept_seq({"on", "weekdays"}) ||

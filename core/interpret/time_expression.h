@@ -13,9 +13,14 @@
 //   day range     "this week", "next week", "this weekend", "next weekend" (no time of day;
 //                 resolved against the clock: the weeks run Monday to Sunday)
 //   relative      "in 20 minutes", "in an hour and a half" (nothing else may follow)
+//   part of day   "morning", "in the afternoon", "this evening", "at night", beside a day or a
+//                 recurrence ("tomorrow morning", "monday evening", "every morning"): an
+//                 hour without am/pm is read in that half of the day, and with no time it
+//                 means 09:00 (morning), 15:00, 19:00 or 21:00 (night)
 //   recurrence    "every day", "daily", "each day", "every weekday", "on weekdays",
 //                 "every monday [and wednesday]", "on mondays", "every weekend",
-//                 "every 2 hours", "every hour", "every 30 minutes" (interval)
+//                 "every morning/evening/night" (daily), "every 2 hours", "every hour",
+//                 "every 30 minutes" (interval)
 // Parts may come in either order ("tomorrow at 9", "at 9 tomorrow", "at 10 on monday").
 #pragma once
 
@@ -41,6 +46,8 @@ struct TimePhrase {
   std::optional<TimeOfDay> time;            // absent: the day's default time (09:00)
   std::optional<int> day_offset;            // today = 0, tomorrow = 1, ... (kOnce only)
   bool evening = false;                     // "tonight": ambiguous hours read as pm
+  bool morning = false;                     // "tomorrow morning": ambiguous hours read as am
+  int default_hour = 0;                     // a part of the day's hour without a time; 0: none
   unsigned weekday_mask = 0;                // bit d = weekday d (0 = Sunday ... 6 = Saturday)
   std::optional<std::int64_t> in_seconds;   // "in 20 minutes" (kOnce, nothing else)
   std::int64_t every_seconds = 0;           // kInterval

@@ -149,7 +149,7 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
     at = resolver.now() + std::chrono::seconds(phrase.every_seconds);
     recurrence = {{"kind", "interval"}, {"every_seconds", phrase.every_seconds}};
   } else {
-    int hour = kDefaultHour, minute = 0;
+    int hour = phrase.default_hour != 0 ? phrase.default_hour : kDefaultHour, minute = 0;
     bool both_readings = false;
     if (phrase.time) {
       hour = phrase.time->hour;
@@ -157,6 +157,8 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
       if (phrase.time->ambiguous) {
         if (phrase.evening) {
           hour += 12;
+        } else if (phrase.morning) {
+          // the morning reading, as parsed
         } else if (phrase.kind == RecurrenceKind::kOnce && !phrase.day_offset &&
                    phrase.weekday_mask == 0 && phrase.month == 0) {
           both_readings = true;

@@ -237,12 +237,13 @@ void Manager::handle(std::string_view utterance) {
     say(no_match_sentence());
     return;
   }
-  if (!fill_slots(skill->manifest, *intent, *match)) return;
+  if (!fill_slots(*intent, *match, utterance)) return;
   if (intent->confirm && !confirm(*intent, *match)) return;
   run(*skill, *intent, *match, std::string(utterance));
 }
 
-bool Manager::fill_slots(const Manifest&, const IntentDecl& intent, interpret::Match& match) {
+bool Manager::fill_slots(const IntentDecl& intent, interpret::Match& match,
+                         std::string_view utterance) {
   const interpret::Interpreter& interpreter = registry_.interpreter();
   for (const SlotDecl& slot : intent.slots) {
     if (!slot.required || match.slots.count(slot.name)) continue;
@@ -256,7 +257,7 @@ bool Manager::fill_slots(const Manifest&, const IntentDecl& intent, interpret::M
         stop();
         return false;
       }
-      if (auto value = interpreter.parse_slot(spec, *answer, context())) {
+      if (auto value = interpreter.parse_slot(spec, *answer, context(), utterance)) {
         match.slots[slot.name] = *value;
         filled = true;
       }

@@ -85,7 +85,7 @@ class Manager : public User {
 
  private:
   std::function<std::string(const std::string&)> stop_hook_;
-  bool fill_slots(const Manifest& manifest, const IntentDecl& intent, interpret::Match& match);
+  bool fill_slots(const IntentDecl& intent, interpret::Match& match, std::string_view utterance);
   bool confirm(const IntentDecl& intent, const interpret::Match& match);
   // "Did you want a reminder or your schedule?": the chosen reading, or nullopt after "no",
   // "stop" or an answer naming neither.

@@ -182,14 +182,65 @@ class ScheduleSkill : public marvin::Skill {
     return date::floor<date::days>(zone->to_local(now));
   }
 
+  // The task is optional in skill.json so that an alarm ("wake me at 6", "set an alarm for 7")
+  // is not asked "what should I remind you of?"; any other reminder without one is asked here.
   void remind(const marvin::Request& request) {
-    const std::string task = request.slots.at("task").get<std::string>();
     const json& when = request.slots.at("when");
-    json reminder = {{"title", task}, {"at", when.at("at")}};
+    if (!request.slots.contains("task") && is_alarm(request.utterance)) {
+      const json created = add_reminder(kAlarmTitle, when);
+      robot().say("OK, I'll wake you " + spoken_when(created) + ".");
+      return;
+    }
+    std::string task;
+    if (request.slots.contains("task")) {
+      task = request.slots.at("task").get<std::string>();
+    } else {
+      task = task_answer(robot().ask("What should I remind you of?"));
+      if (task.empty()) {
+        robot().say("Sorry, I didn't get what to remind you of. Let's leave it for now.");
+        return;
+      }
+    }
+    const json created = add_reminder(task, when);
+    robot().say("OK, I'll remind you to " + second_person(task) + " " + spoken_when(created) + ".");
+  }
+
+  static constexpr const char* kAlarmTitle = "time to wake up";
+
+  static bool is_alarm(const std::string& utterance) {
+    for (const std::string& w : words_of(utterance)) {
+      if (w == "wake" || w == "alarm" || w == "alarms") return true;
+    }
+    return false;
+  }
+
+  // "To call the bank." -> "call the bank": an answer as a task, as the interpreter hands a
+  // task slot (lower case, no leading "to"/"about"/"of", no end punctuation).
+  static std::string task_answer(const std::string& answer) {
+    std::vector<std::string> words = words_of(lower(answer));
+    std::size_t first = 0;
+    while (first < words.size() &&
+           (words[first] == "to" || words[first] == "about" || words[first] == "of")) {
+      ++first;
+    }
+    std::string task;
+    for (std::size_t i = first; i < words.size(); ++i) task += (task.empty() ? "" : " ") + words[i];
+    while (!task.empty() && std::string_view(".!?,").find(task.back()) != std::string_view::npos) {
+      task.pop_back();
+    }
+    return task;
+  }
+
+  // Returns once the reminder is durably stored; only then may the skill say OK.
+  json add_reminder(const std::string& title, const json& when) {
+    json reminder = {{"title", title}, {"at", when.at("at")}};
     if (when.contains("time_zone")) reminder["time_zone"] = when["time_zone"];
     if (when.contains("recurrence")) reminder["recurrence"] = when["recurrence"];
-    // Returns once the reminder is durably stored; only then do we say OK.
-    const json created = robot().schedule_add(reminder);
+    return robot().schedule_add(reminder);
+  }
+
+  // "tomorrow at 6 AM", "every day at 8 AM", "every 2 hours, starting today at 3 PM".
+  std::string spoken_when(const json& created) {
     const LocalTime at = parse_local(created.at("at").get<std::string>());
     const json recurrence = created.value("recurrence", json::object());
     std::string when_text = spoken_recurrence(recurrence, at.minute_of_day);
@@ -197,7 +248,7 @@ class ScheduleSkill : public marvin::Skill {
       const std::string first = spoken_day(at.day, today()) + " at " + spoken_time(at.minute_of_day);
       when_text = when_text.empty() ? first : when_text + ", starting " + first;
     }
-    robot().say("OK, I'll remind you to " + second_person(task) + " " + when_text + ".");
+    return when_text;
   }
 
   // Timers are reminders titled "timer ..." (durable like them: they survive a restart and

@@ -37,6 +37,38 @@ TEST_CASE("remind me to take my pills at 8 pm: stored, then acknowledged") {
   CHECK(stored[0]["time_zone"] == "Europe/Berlin");
 }
 
+TEST_CASE("an alarm needs no task: wake me at 6 is 6 in the morning, and stored") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);  // Monday 10:00
+  CHECK(h.say("wake me up tomorrow at 6") == Lines{"OK, I'll wake you tomorrow at 6 AM."});
+  CHECK(h.say("set an alarm for 7 every day") == Lines{"OK, I'll wake you every day at 7 AM."});
+  // Asked when, the answer is read as the request meant it: 6:30 in the morning.
+  CHECK(
+      h.say("set an alarm", {"6:30 on wednesday"}) ==
+      Lines{"When should I remind you?", "OK, I'll wake you on Wednesday, 7 January at 6:30 AM."});
+  const auto stored = reminders(h);
+  REQUIRE(stored.size() == 3);
+  CHECK(stored[0]["title"] == "time to wake up");
+  CHECK(stored[0]["at"] == "2026-01-06T06:00");
+  CHECK(stored[1]["recurrence"]["kind"] == "daily");
+  CHECK(stored[1]["at"] == "2026-01-06T07:00");  // 7 today has passed
+  CHECK(stored[2]["at"] == "2026-01-07T06:30");
+}
+
+TEST_CASE("a reminder said without its task: the skill asks for it; no answer, nothing stored") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  CHECK(h.say("set a reminder for tomorrow at 9", {"To call the bank."}) ==
+        Lines{"What should I remind you of?",
+              "OK, I'll remind you to call the bank tomorrow at 9 AM."});
+  CHECK(h.say("set a reminder for tomorrow at 10", {"..."}) ==
+        Lines{"What should I remind you of?",
+              "Sorry, I didn't get what to remind you of. Let's leave it for now."});
+  const auto stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["title"] == "call the bank");
+}
+
 TEST_CASE("remind me every day at 9 to water the plants; what's on my schedule") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   berlin(h);

@@ -85,6 +85,22 @@ TEST_CASE("time expressions: table against Friday 2024-03-29 10:00 Europe/Berlin
       {"every weekend at 9", "2024-03-30T09:00", "weekly"},
       {"every 2 hours", "2024-03-29T12:00", "interval"},
       {"every hour", "2024-03-29T11:00", "interval"},
+      // A part of the day: the half of the clock for an hour without am/pm, or its hour.
+      {"tomorrow morning at 6", "2024-03-30T06:00", "once"},  // not 18:00 as "tomorrow at 6"
+      {"at 6 tomorrow morning", "2024-03-30T06:00", "once"},
+      {"tomorrow morning", "2024-03-30T09:00", "once"},
+      {"tomorrow afternoon", "2024-03-30T15:00", "once"},
+      {"this evening", "2024-03-29T19:00", "once"},
+      {"this evening at 7", "2024-03-29T19:00", "once"},
+      {"on monday evening at 7", "2024-04-01T19:00", "once"},
+      {"monday morning", "2024-04-01T09:00", "once"},
+      {"tomorrow at night", "2024-03-30T21:00", "once"},
+      {"at 8 in the morning", "2024-03-30T08:00", "once"},
+      {"every morning at 7", "2024-03-30T07:00", "daily"},
+      {"every morning", "2024-03-30T09:00", "daily"},
+      {"every evening", "2024-03-29T19:00", "daily"},
+      {"every night at 10", "2024-03-29T22:00", "daily"},
+      {"every day in the evening", "2024-03-29T19:00", "daily"},
   };
   for (const Case& c : cases) {
     CAPTURE(c.text);
@@ -205,6 +221,24 @@ TEST_CASE("time expressions: day ranges (weeks run Monday to Sunday)") {
   CHECK(when("next week", context)["at"] == "2024-04-01T09:00");
 }
 
+TEST_CASE("time expressions: \"wake me\" and \"alarm\" read an hour without am/pm as morning") {
+  const Context context = berlin_friday();  // Friday 10:00
+  Interpreter interpreter;
+  const SlotSpec slot{"when", SlotType::kDateTime, {}};
+  auto at = [&](const char* answer, const char* request) {
+    auto value = interpreter.parse_slot(slot, answer, context, request);
+    return value ? value->value.at("at").get<std::string>() : std::string("(none)");
+  };
+  CHECK(at("tomorrow at 6", "") == "2024-03-30T18:00");
+  CHECK(at("tomorrow at 6", "set an alarm") == "2024-03-30T06:00");
+  CHECK(at("6", "wake me up") == "2024-03-30T06:00");  // today's 06:00 has passed
+  CHECK(at("every day at 6", "Wake me, please") == "2024-03-30T06:00");
+  CHECK(at("at 6 pm", "set an alarm") == "2024-03-29T18:00");       // said: pm
+  CHECK(at("tonight at 9", "set an alarm") == "2024-03-29T21:00");  // said: tonight
+  CHECK(at("tomorrow at 6", "remind me to wake the kids") == "2024-03-30T06:00");
+  CHECK(at("tomorrow at 6", "remind me to call the bank") == "2024-03-30T18:00");
+}
+
 TEST_CASE("time expressions: not times") {
   Context context = berlin_friday();
   const char* cases[] = {"",         "at",          "at 25",           "at 13 pm",
@@ -214,6 +248,12 @@ TEST_CASE("time expressions: not times") {
                          "on",       "every 10 seconds",          "next week at 8",
                          "the week after"};
   for (const char* text : cases) {
+    CAPTURE(text);
+    CHECK(when(text, context).is_null());
+  }
+  // Parts of the day: one at most, one day at most, never with a week or an interval.
+  for (const char* text : {"morning morning", "this evening tomorrow", "tonight in the morning",
+                           "next week in the morning", "every 2 hours in the evening"}) {
     CAPTURE(text);
     CHECK(when(text, context).is_null());
   }

@@ -87,6 +87,23 @@ TEST_CASE("the issue's phrasings reach the right skill with the right slots") {
   CHECK(plants->slots.at("when").value.at("at") == "2026-11-26T14:30");
 }
 
+TEST_CASE("a part of the day belongs to the time, not to the task") {
+  const Interpreter in = robot_interpreter();  // Wednesday 08:06 in Berlin
+  auto plumber = in.match("remind me to call the plumber tomorrow morning at 6", context());
+  REQUIRE(plumber);
+  CHECK(plumber->slots.at("task").text == "call the plumber");
+  CHECK(plumber->slots.at("when").value.at("at") == "2026-11-26T06:00");
+  auto door = in.match("remind me to lock the door this evening", context());
+  REQUIRE(door);
+  CHECK(door->slots.at("task").text == "lock the door");
+  CHECK(door->slots.at("when").value.at("at") == "2026-11-25T19:00");
+  auto alarm = in.match("wake me up at 6 tomorrow", context());
+  REQUIRE(alarm);
+  CHECK(alarm->intent == "remind");
+  CHECK(alarm->slots.count("task") == 0);
+  CHECK(alarm->slots.at("when").value.at("at") == "2026-11-26T06:00");
+}
+
 TEST_CASE("timers: set, how long is left, cancel") {
   const Interpreter in = robot_interpreter();
   auto timer = in.match("set a timer for 10 minutes", context());
