@@ -225,15 +225,19 @@ const std::pair<const char*, const char*> kBuiltinRules[] = {
     {"duration",
      "(a|an|{number}) {d_unit} [and (a half|{number} {d_unit})]|half an hour|"
      "a quarter of an hour"},
-    {"t_hour", "{n_digit}|ten|eleven|twelve|thirteen|fourteen|fifteen|sixteen|seventeen|"
-               "eighteen|nineteen|twenty [one|two|three]"},
+    {"t_hour",
+     "{n_digit}|ten|eleven|twelve|thirteen|fourteen|fifteen|sixteen|seventeen|"
+     "eighteen|nineteen|twenty [one|two|three]"},
     {"t_minute", "oh {n_digit}|{n_teen}|{n_tens} [{n_digit}]"},
     {"t_part", "am|pm|in the morning|in the afternoon|in the evening|at night"},
     {"time_of_day",
      "{t_hour} [{t_minute}] [o'clock] [{t_part}]|noon|midnight|half past {t_hour} [{t_part}]|"
      "[a] quarter (past|to) {t_hour} [{t_part}]|{n_below100} [minutes] (past|to) {t_hour}"},
     {"t_weekday", "monday|tuesday|wednesday|thursday|friday|saturday|sunday"},
-    {"t_day", "today|tonight|tomorrow|the day after tomorrow|[on] [next] {t_weekday}"},
+    {"t_daypart", "morning|afternoon|evening|night"},
+    {"t_day",
+     "today|tonight|tomorrow [{t_daypart}]|the day after tomorrow|"
+     "[on] [next] {t_weekday} [{t_daypart}]|this (morning|afternoon|evening)"},
     {"datetime",
      "[at] {time_of_day} [{t_day}]|{t_day} [at {time_of_day}]|in {duration}|"
      "every (day|morning|evening|night|weekday|{t_weekday}) [at {time_of_day}]|"

@@ -62,6 +62,9 @@ TEST_CASE("typed slots refer to the built-in rules") {
   CHECK(contains(result.jsgf, "<free_text> = <free_word>+;"));
   CHECK(contains(result.jsgf, "<datetime> = "));
   CHECK(contains(result.jsgf, "<number> = "));
+  // A part of the day after a day, as the time parser reads it ("tomorrow morning").
+  CHECK(contains(result.jsgf, "tomorrow [<t_daypart>]"));
+  CHECK(contains(result.jsgf, "<t_daypart> = (morning | afternoon | evening | night);"));
   // Template words join the free-text vocabulary.
   CHECK(contains(result.jsgf, " remind |"));
 }
