@@ -417,6 +417,11 @@ class FindingSkill : public marvin::Skill {
   }
 
   void guard_off() {
+    // "I'm home" with no guarding to stop is a greeting, not a request to check a face.
+    if (!robot().guard(-1).value("on", false)) {
+      robot().say("Welcome home!");
+      return;
+    }
     try {
       const json state = robot().guard(0);
       const std::string by = state.value("by", "");

@@ -109,6 +109,10 @@ TEST_CASE("guard mode: on by voice; off only for a known face; who came reads th
   h.robot().set_camera_view(kAnna);
   CHECK(h.say("i'm home") == Lines{"Welcome back, Anna. I stopped guarding."});
   CHECK_FALSE(h.robot().guarding());
+  // Not guarding: a stranger coming home is greeted and nothing changes.
+  h.robot().set_camera_view(kStranger);
+  CHECK(h.say("i'm back") == Lines{"Welcome home!"});
+  CHECK_FALSE(h.robot().guarding());
   CHECK(h.say("who came while i was out") ==
         Lines{"One visitor: someone I don't know in the hall, just now. I saved a photo of "
               "each in my data folder."});

@@ -1,13 +1,14 @@
 // Built-in skill "time": says the time or the date, from the host's clock in the owner's
 // time zone. "what time is it" -> "It's 3:05 PM."; "what day is it" -> "Today is
-// Saturday, 21 November 2026." With a place ("what time is it in new york"), the time there
-// when the tz database names a zone after it ("America/New_York"); otherwise the local time
-// and a word that the place is unknown.
+// Saturday, 21 November 2026."; "what's the date tomorrow" -> "Tomorrow is Sunday, ...". With a
+// place ("what time is it in new york"), the time there when the tz database names a zone after it
+// ("America/New_York"); otherwise the local time and a word that the place is unknown.
 #include <date/tz.h>
 
 #include <cctype>
 #include <chrono>
 #include <marvin/skill.hpp>
+#include <optional>
 #include <string>
 
 namespace {
@@ -36,9 +37,16 @@ class TimeSkill : public marvin::Skill {
                     clock_text(local) + ".");
       }
     } else if (request.intent == "day") {
-      auto day = date::floor<date::days>(local);
-      date::year_month_day ymd{day};
-      robot().say("Today is " + date::format("%A", date::weekday{day}) + ", " +
+      const date::local_days today = date::floor<date::days>(local);
+      date::local_days day = today;
+      if (request.slots.contains("when")) {  // "what's the date tomorrow"
+        if (auto asked = local_day(request.slots["when"].value("at", std::string()))) day = *asked;
+      }
+      const date::year_month_day ymd{day};
+      const std::string which = day == today                   ? "Today is "
+                                : day == today + date::days{1} ? "Tomorrow is "
+                                                               : "That is ";
+      robot().say(which + date::format("%A", date::weekday{day}) + ", " +
                   std::to_string(static_cast<unsigned>(ymd.day())) + " " +
                   date::format("%B %Y", ymd) + ".");
     } else {
@@ -47,6 +55,24 @@ class TimeSkill : public marvin::Skill {
   }
 
  private:
+  // The day of a datetime slot's local "at" ("2026-11-29T09:00"); nullopt if malformed.
+  static std::optional<date::local_days> local_day(const std::string& at) {
+    auto number = [&](std::size_t from, std::size_t length) {
+      int n = 0;
+      for (std::size_t i = from; i < from + length && i < at.size(); ++i) {
+        if (!std::isdigit(static_cast<unsigned char>(at[i]))) return -1;
+        n = n * 10 + (at[i] - '0');
+      }
+      return at.size() < from + length ? -1 : n;
+    };
+    const int y = number(0, 4), m = number(5, 2), d = number(8, 2);
+    if (y < 0 || m < 0 || d < 0) return std::nullopt;
+    const date::year_month_day ymd{date::year{y}, date::month{static_cast<unsigned>(m)},
+                                   date::day{static_cast<unsigned>(d)}};
+    if (!ymd.ok()) return std::nullopt;
+    return date::local_days{ymd};
+  }
+
   static std::string clock_text(date::local_seconds local) {
     auto day = date::floor<date::days>(local);
     auto minute_of_day = std::chrono::duration_cast<std::chrono::minutes>(local - day).count();

@@ -32,6 +32,15 @@ TEST_CASE("what day is it: the local date, which may differ from UTC's") {
   CHECK(harness.say("what is the date") == Lines{"Today is Sunday, 22 November 2026."});
 }
 
+TEST_CASE("the date of another day: tomorrow, a weekday") {
+  marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
+  harness.robot().set_now(kSaturdayAfternoonUtc);
+  harness.robot().set_time_zone("Europe/Berlin");
+  CHECK(harness.say("what's the date tomorrow") == Lines{"Tomorrow is Sunday, 22 November 2026."});
+  CHECK(harness.say("what date is next friday") == Lines{"That is Friday, 27 November 2026."});
+  CHECK(harness.say("what is the date today") == Lines{"Today is Saturday, 21 November 2026."});
+}
+
 TEST_CASE("midnight and noon read as 12") {
   marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
   harness.robot().set_time_zone("UTC");
