@@ -13,7 +13,8 @@ class HelloSkill : public marvin::Skill {
 
   void handle(const marvin::Request& request) override {
     if (request.intent == "hello") {
-      robot().say("Hello! What can I do for you?");
+      robot().say(asks_how_i_am(request.utterance) ? "I'm fine, thank you. What can I do for you?"
+                                                   : "Hello! What can I do for you?");
     } else if (request.intent == "thanks") {
       robot().say("You're welcome.");
     } else if (request.intent == "goodbye") {
@@ -30,6 +31,16 @@ class HelloSkill : public marvin::Skill {
     } else {
       throw marvin::Error(MARVIN_ERR_INVALID, "unknown intent '" + request.intent + "'");
     }
+  }
+
+ private:
+  // "how are you", "how's it going", "how have you been", "are you doing well".
+  static bool asks_how_i_am(const std::string& utterance) {
+    for (const char* question : {"how are", "how is it", "how's it", "how have you",
+                                 "how do you do", "are you doing", "are you well", "are you ok"}) {
+      if (utterance.find(question) != std::string::npos) return true;
+    }
+    return false;
   }
 };
 
