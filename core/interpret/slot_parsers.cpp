@@ -147,6 +147,8 @@ std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
       }
       // "the" or "of the" is no value; a person or thing must look like one.
       if (only_function_words(words)) return std::nullopt;
+      // Nor is a time alone: "remind me at 6" must not make "at 6" the task.
+      if (parse_time_phrase(words)) return std::nullopt;
       if (slot.entity && !contacts.find(words) && !plausible_entity(words, WordNet::installed())) {
         return std::nullopt;
       }

@@ -97,6 +97,11 @@ TEST_CASE("a part of the day belongs to the time, not to the task") {
   REQUIRE(door);
   CHECK(door->slots.at("task").text == "lock the door");
   CHECK(door->slots.at("when").value.at("at") == "2026-11-25T19:00");
+  // A time alone is never the task ("at 6" was): the skill asks for the task instead.
+  auto bare = in.match("remind me at 6", context());
+  REQUIRE(bare);
+  CHECK(bare->slots.count("task") == 0);
+  CHECK(bare->slots.at("when").value.at("at") == "2026-11-25T18:00");
   auto alarm = in.match("wake me up at 6 tomorrow", context());
   REQUIRE(alarm);
   CHECK(alarm->intent == "remind");
