@@ -427,12 +427,30 @@ std::int64_t MockRobot::add_reminder(const std::string& title, const std::string
   return impl_->data.add_reminder(r);
 }
 
+void MockRobot::Impl::know_person(const std::string& name) {
+  for (const data::Person& p : data.list_people()) {
+    if (p.name == name) return;
+  }
+  data.add_person(data::Person{0, name, std::nullopt});
+}
+
+void MockRobot::Impl::know_faces_in(const std::string& seen_json) {
+  const nlohmann::json seen = nlohmann::json::parse(seen_json, nullptr, false);
+  if (!seen.is_object()) return;  // set_view reports the error
+  for (const nlohmann::json& f : seen.value("faces", nlohmann::json::array())) {
+    const std::string name = f.is_object() ? f.value("name", "") : "";
+    if (!name.empty()) know_person(name);
+  }
+}
+
 void MockRobot::set_camera_view(const std::string& seen_json) {
   impl_->eyes.set_view(seen_json);
+  impl_->know_faces_in(seen_json);
   impl_->services.eyes = &impl_->eyes;
 }
 void MockRobot::set_room_view(const std::string& room, const std::string& seen_json) {
   impl_->room_views[room] = seen_json;
+  impl_->know_faces_in(seen_json);
   impl_->services.eyes = &impl_->eyes;
   if (room == impl_->room) impl_->eyes.set_view(seen_json);
 }

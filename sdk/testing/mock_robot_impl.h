@@ -77,8 +77,18 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   void say(std::string_view text) override;
   std::optional<std::string> ask(std::string_view question) override;
 
+  // A face the camera names is a person Marvin knows (people_list), as enrolment makes one
+  // on the robot: named in a view, or enrolled by the skill.
+  void know_person(const std::string& name);
+  void know_faces_in(const std::string& seen_json);
+
   skills::InMemoryPersonalData data;
-  skills::ScriptedEyes eyes{[this](std::string action) { actions.push_back(std::move(action)); }};
+  skills::ScriptedEyes eyes{[this](std::string action) {
+    if (action.rfind("enroll_face ", 0) == 0) {
+      know_person(action.substr(12, action.rfind(" frames=") - 12));
+    }
+    actions.push_back(std::move(action));
+  }};
   skills::HostServices services;
   std::unique_ptr<skills::SkillContext> context;
   std::string skill_id;

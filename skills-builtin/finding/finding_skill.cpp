@@ -111,6 +111,21 @@ class FindingSkill : public marvin::Skill {
     return w;
   }
 
+  // Whether Marvin knows `name`'s face (enrolled: "this is Anna"); the camera cannot find a
+  // person without it, however long the search.
+  bool knows_face(const std::string& name) {
+    for (const json& p : robot().people_list()) {
+      if (lower(p.value("name", "")) == lower(name)) return true;
+    }
+    return false;
+  }
+
+  // Said instead of a search that cannot succeed.
+  void say_face_unknown(const Wanted& w) {
+    robot().say("I don't know " + w.key + "'s face yet, so I can't look for " + w.key + ". When " +
+                w.key + " is in front of me, say \"this is " + w.key + "\".");
+  }
+
   bool is_person(const std::string& name) {
     if (auto place = robot().place_find(name)) {
       if (place->value("kind", "") == "person") return true;
@@ -150,6 +165,10 @@ class FindingSkill : public marvin::Skill {
     }
     if (!w.person && !w.mine && !seen && !recognisable) {
       robot().say("I don't know who or what " + w.key + " is.");
+      return;
+    }
+    if (w.person && !seen && !knows_face(w.key)) {
+      say_face_unknown(w);
       return;
     }
     if (!w.person && !seen && !recognisable) {
@@ -386,7 +405,12 @@ class FindingSkill : public marvin::Skill {
       return;
     }
     std::string first;
-    if (auto seen = last_seen(w)) first = seen->value("room", "");
+    const std::optional<json> seen = last_seen(w);
+    if (seen) first = seen->value("room", "");
+    if (!seen && !knows_face(w.key)) {
+      say_face_unknown(w);
+      return;
+    }
     if (first.empty()) {
       if (auto place = robot().place_find(w.key)) first = place->value("room", "");
     }

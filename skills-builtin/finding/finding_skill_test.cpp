@@ -40,6 +40,21 @@ TEST_CASE("find Anna: searches the rooms, the map's room for her first, and repo
   CHECK(actions.find("turn") == std::string::npos);
 }
 
+TEST_CASE("a person on the map whose face Marvin does not know: no search, how to introduce") {
+  marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
+  home(h);  // Anna has a place on the map, but no face was ever named or enrolled
+  h.robot().set_room_view("living room", kStranger);
+  const std::string unknown =
+      "I don't know Anna's face yet, so I can't look for Anna. When Anna is in front of me, say "
+      "\"this is Anna\".";
+  CHECK(h.say("find anna") == Lines{unknown});
+  CHECK(h.say("tell anna dinner is ready") == Lines{unknown});
+  const std::string actions = joined(h.robot().actions());
+  INFO(actions);
+  CHECK(actions.find("go_to") == std::string::npos);  // no search: only the status light
+  CHECK(actions.find("turn") == std::string::npos);
+}
+
 TEST_CASE("is anyone in the bedroom: a stranger; an unknown room is named") {
   marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
   home(h);
@@ -84,6 +99,7 @@ TEST_CASE("a blocked room and a camera failure mid-search: clear speech, the roo
   marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
   home(h);
   h.robot().block_place("kitchen", "the kitchen door is blocked");
+  h.robot().set_room_view("kitchen", kAnna);  // known by face, behind the blocked door
   h.robot().set_room_view("hall", R"({"faces":[],"objects":[]})");
   const Lines said = h.say("find anna");
   REQUIRE(said.size() == 2);

@@ -81,7 +81,8 @@ class MockRobot {
   // What the camera sees from now on (API 1.2): the JSON vision_look returns (see
   // marvin/robot.h), e.g. {"faces":[{"name":"","box":[100,80,120,120]}],"objects":[]}.
   // Until this is called the mock robot has no camera (MARVIN_ERR_UNAVAILABLE).
-  // vision_enroll_face names the one face in view; vision_forget_face unnames it.
+  // vision_enroll_face names the one face in view; vision_forget_face unnames it. A face
+  // named in a view (here or in set_room_view) or enrolled is a person people_list() knows.
   void set_camera_view(const std::string& seen_json);
   // The camera fails from now on ("unplugged"): vision_* answer MARVIN_ERR_UNAVAILABLE with
   // `message` as the error sentence, and nothing is enrolled or forgotten.
