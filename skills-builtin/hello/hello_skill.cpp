@@ -14,7 +14,8 @@ class HelloSkill : public marvin::Skill {
   void handle(const marvin::Request& request) override {
     if (request.intent == "hello") {
       robot().say(asks_how_i_am(request.utterance) ? "I'm fine, thank you. What can I do for you?"
-                                                   : "Hello! What can I do for you?");
+                  : asks_if_i_hear(request.utterance) ? "Yes, I'm here. What can I do for you?"
+                                                      : "Hello! What can I do for you?");
     } else if (request.intent == "thanks") {
       robot().say("You're welcome.");
     } else if (request.intent == "goodbye") {
@@ -34,6 +35,15 @@ class HelloSkill : public marvin::Skill {
   }
 
  private:
+  // "can you hear me", "are you there", "are you listening".
+  static bool asks_if_i_hear(const std::string& utterance) {
+    for (const char* question :
+         {"hear me", "are you there", "are you listening", "are you awake"}) {
+      if (utterance.find(question) != std::string::npos) return true;
+    }
+    return false;
+  }
+
   // "how are you", "how's it going", "how have you been", "are you doing well".
   static bool asks_how_i_am(const std::string& utterance) {
     for (const char* question : {"how are", "how is it", "how's it", "how have you",

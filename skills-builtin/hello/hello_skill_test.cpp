@@ -9,6 +9,8 @@ TEST_CASE("hello, thank you and goodbye each get their own answer") {
   marvin::testing::SkillHarness harness(HELLO_SKILL_DIR);
   CHECK(harness.say("hello marvin") == Lines{"Hello! What can I do for you?"});
   CHECK(harness.say("how are you today") == Lines{"I'm fine, thank you. What can I do for you?"});
+  CHECK(harness.say("can you hear me") == Lines{"Yes, I'm here. What can I do for you?"});
+  CHECK(harness.say("Marvin, are you there?") == Lines{"Yes, I'm here. What can I do for you?"});
   CHECK(harness.say("thank you very much") == Lines{"You're welcome."});
   CHECK(harness.say("cheers robot") == Lines{"You're welcome."});
   CHECK(harness.say("bye for now") == Lines{"Goodbye. Just say my name when you need me."});
