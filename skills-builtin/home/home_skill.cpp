@@ -203,11 +203,22 @@ class HomeSkill : public marvin::Skill {
     remember(devices);
     std::vector<json> done;
     for (const json& d : devices) {
+      const bool on = d.value("on", json()).is_boolean() && d["on"].get<bool>();
+      const std::string name = d.value("name", "");
       if (!d.value("dimmable", false)) {
-        robot().say("The " + d.value("name", "") + " can't be dimmed.");
+        // "It's too dark in here" with a plain light off: switching it on is what helps.
+        if (delta > 0 && !on) {
+          if (auto s = command(d, json{{"on", true}})) done.push_back(*s);
+        } else {
+          robot().say(delta > 0 ? "The " + name + " is already on, as bright as it goes."
+                                : "The " + name + " can't be dimmed.");
+        }
         continue;
       }
-      const bool on = d.value("on", json()).is_boolean() && d["on"].get<bool>();
+      if (delta < 0 && !on) {  // dimming a light that is off must not switch it on
+        robot().say("The " + name + " is already off.");
+        continue;
+      }
       const int current =
           on && d.value("brightness", json()).is_number_integer() ? d["brightness"].get<int>() : 0;
       // Absolute, so the command means the same if it were delivered twice.

@@ -68,6 +68,20 @@ TEST_CASE("dim the living room lights to 30 percent, then make it brighter") {
   CHECK(h.say("dim the tv to 20 percent") == Lines{"The tv can't be dimmed."});
 }
 
+TEST_CASE("brighter and dimmer on a light that cannot dim, or that is off") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);  // the robot is in the hall; the hall light only switches
+  CHECK(h.say("make the hall light brighter") == Lines{"The hall light is on."});
+  CHECK(state(h, "hall")["on"] == true);
+  CHECK(h.say("make the hall light brighter") ==
+        Lines{"The hall light is already on, as bright as it goes."});
+  CHECK(h.say("make the hall light dimmer") == Lines{"The hall light can't be dimmed."});
+  h.robot().clear();
+  CHECK(h.say("make the kitchen light dimmer") == Lines{"The kitchen light is already off."});
+  CHECK(state(h, "kitchen")["on"] == false);
+  CHECK(sent(h).empty());
+}
+
 TEST_CASE("turn everything off in the bedroom") {
   marvin::testing::SkillHarness h(HOME_SKILL_DIR);
   world(h);
