@@ -41,10 +41,11 @@ constexpr std::array<std::string_view, 8> kClauseStarts{"it",  "i",  "you",  "he
                                                         "she", "we", "they", "there"};
 
 // First words of a question or clause, never of a name: "where is {what}" tolerantly fits
-// "where does cannabis come from" with "does cannabis".
-constexpr std::array<std::string_view, 12> kQuestionStarts{"do",     "does",    "did",   "why",
-                                                           "how",    "whether", "can",   "could",
-                                                           "should", "would",   "shall", "must"};
+// "where does cannabis come from" with "does cannabis", and "where have you been" with
+// "have you been".
+constexpr std::array<std::string_view, 20> kQuestionStarts{
+    "do",    "does", "did",  "why", "how", "whether", "can", "could", "should", "would",
+    "shall", "must", "have", "has", "had", "is",      "are", "was",   "were",   "will"};
 
 // Short names of household devices that WordNet files only under other senses ("ac":
 // actinium, alternating current).
