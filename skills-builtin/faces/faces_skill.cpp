@@ -1,6 +1,10 @@
 // Built-in skill "faces": who is in front of the robot, and learning or forgetting faces.
 //   "who is this?" / "who is in front of you?" / "who is at the door?"
 //        -> "That's Anna." / "I see Anna and someone I don't know." / "I don't see anyone."
+//   "who is Anna?" / "tell me who Tom is" (a contact's name or alias: the interpreter
+//        fills the slot only with one) -> "Anna is your daughter." from the contact book, not
+//        the camera: a person asking has forgotten who Anna is, not whether she is here.
+//        A name that is no contact leaves the slot empty and is answered as "who is this?".
 //   "what do you see?" / "what's in front of you?"
 //        -> the things and the people in view: "I see a cup, two chairs and Anna."
 //   "do you see a phone?" / "is there a cup?" (the 80 COCO things by the names people use:
@@ -114,6 +118,7 @@ class FacesSkill : public marvin::Skill {
   void handle(const marvin::Request& r) override {
     try {
       if (r.intent == "who") who();
+      else if (r.intent == "who_is") who_is(r.slots.value("person", ""));
       else if (r.intent == "what_do_you_see") what_do_you_see();
       else if (r.intent == "is_there") is_there(lower(r.slots.at("object").get<std::string>()));
       else if (r.intent == "enroll") enroll(person_name(r.slots.at("name").get<std::string>()));
@@ -141,6 +146,18 @@ class FacesSkill : public marvin::Skill {
     } else {
       robot().say("I see " + join_and(people) + ".");
     }
+  }
+
+  void who_is(const std::string& name) {
+    const json found = name.empty() ? json::array() : robot().contacts_find(name);
+    if (found.empty()) return who();
+    const json& contact = found[0];
+    const std::string full = contact.value("name", name);
+    const std::string relation = contact.value("relation", "");
+    const std::string role = relation.empty() ? "one of your contacts" : "your " + relation;
+    // "Annie" is an alias of Anna Schmidt: "Annie is Anna Schmidt, your daughter."
+    robot().say(lower(full) == lower(name) ? full + " is " + role + "."
+                                           : name + " is " + full + ", " + role + ".");
   }
 
   void what_do_you_see() {

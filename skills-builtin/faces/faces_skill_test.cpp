@@ -28,6 +28,23 @@ TEST_CASE("who is this: a stranger, then Anna after 'this is Anna' and a yes") {
   CHECK(h.say("forget anna's face") == Lines{"I don't know Anna's face."});
 }
 
+TEST_CASE("who is Anna: answered from the contact book, not the camera") {
+  marvin::testing::SkillHarness h(FACES_SKILL_DIR);
+  h.robot().add_contact_json(
+      R"({"name": "Anna Schmidt", "aliases": ["Annie"], "relation": "daughter"})");
+  h.robot().add_contact_json(R"({"name": "Tom"})");
+  // A name that is no contact is a question about who is here.
+  h.robot().set_camera_view(kStranger);
+  CHECK(h.say("who is Bob") == Lines{"That's someone I don't know."});
+  // Contacts are answered without the camera (it fails from here on).
+  h.robot().set_camera_failure("camera /dev/video0: reading a frame failed");
+  CHECK(h.say("who is Anna") == Lines{"Anna Schmidt is your daughter."});
+  CHECK(h.say("who's annie again") == Lines{"Annie is Anna Schmidt, your daughter."});
+  CHECK(h.say("tell me who Tom is") == Lines{"Tom is one of your contacts."});
+  CHECK(h.say("who is this") ==
+        Lines{"Sorry, I can't see anything right now: my camera is not working."});
+}
+
 TEST_CASE("no enrolment without a yes, with no face or with several") {
   marvin::testing::SkillHarness h(FACES_SKILL_DIR);
   h.robot().set_camera_view(kStranger);
