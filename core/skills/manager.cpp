@@ -1,5 +1,6 @@
 #include "skills/manager.h"
 
+#include <algorithm>
 #include <exception>
 
 #include "common/log.h"
@@ -156,16 +157,27 @@ void Manager::stop() {
   say(stopped.empty() ? "OK, I stopped." : stopped);
 }
 
-std::string Manager::no_match_sentence() const {
+std::string Manager::no_match_sentence() {
+  // One example per skill: its first intent's first example sentence (written to be said),
+  // else its first template that is plain words.
+  std::vector<std::string> examples;
   for (const auto& skill : registry_.skills()) {
-    for (const IntentDecl& intent : skill->manifest.intents) {
-      for (const std::string& t : intent.templates) {
-        if (plain_words(t)) {
-          return "Sorry, I don't know how to help with that. You can ask me, for example: \"" + t +
-                 "\".";
-        }
+    const std::vector<IntentDecl>& intents = skill->manifest.intents;
+    if (!intents.empty() && !intents.front().examples.empty()) {
+      examples.push_back(intents.front().examples.front());
+      continue;
+    }
+    for (const IntentDecl& intent : intents) {
+      auto plain = std::find_if(intent.templates.begin(), intent.templates.end(), plain_words);
+      if (plain != intent.templates.end()) {
+        examples.push_back(*plain);
+        break;
       }
     }
+  }
+  if (!examples.empty()) {
+    return "Sorry, I don't know how to help with that. You can ask me, for example: \"" +
+           examples[refusals_++ % examples.size()] + "\".";
   }
   if (registry_.skills().empty()) {
     return "Sorry, I don't know how to help with that: no skills are installed.";

@@ -27,9 +27,10 @@
 // there is one: executing while a skill acts, awaiting otherwise.
 #pragma once
 
+#include <atomic>
 #include <chrono>
-#include <functional>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -100,7 +101,9 @@ class Manager : public User {
               const std::string& error);
   void light(int which);
   void join_finished();
-  std::string no_match_sentence() const;
+  // "Sorry, I don't know how to help with that." and a request the user could make instead,
+  // from the next skill each time: the same example after every refusal teaches nothing.
+  std::string no_match_sentence();
 
   Registry& registry_;
   User& user_;
@@ -114,6 +117,7 @@ class Manager : public User {
   LoadedSkill* running_ = nullptr;  // guarded by mutex_: the skill acting now
   std::string running_stopped_;     // guarded by mutex_: its intent's "stopped" sentence
   std::string last_said_;           // guarded by mutex_
+  std::atomic<std::size_t> refusals_{0};  // refusals so far
   std::thread worker_;
   std::thread watchdog_;
 };

@@ -4,6 +4,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -322,6 +323,28 @@ TEST_CASE("no match gets a helpful sentence, never a guess; repeat says it again
   CHECK(d.turn("yes") == Lines{"I wasn't asking anything. What can I do for you?"});
 }
 
+TEST_CASE("each refusal offers the next skill's example, round and round") {
+  Dialogue d;
+  const std::string sorry = "Sorry, I don't know how to help with that. You can ask me, for example: ";
+  Lines offered;
+  for (int i = 0; i < 12; ++i) {
+    const Lines said = d.turn("sing me a song");
+    REQUIRE(said.size() == 1);
+    REQUIRE(said[0].rfind(sorry, 0) == 0);
+    offered.push_back(said[0].substr(sorry.size()));
+  }
+  CHECK(offered[0] == "\"let us chat\".");
+  // Different examples until the first comes back, then the same round again.
+  const auto again = std::find(offered.begin() + 1, offered.end(), offered[0]);
+  REQUIRE(again != offered.end());
+  const std::size_t round = static_cast<std::size_t>(again - offered.begin());
+  CHECK(round >= 3);
+  Lines first_round(offered.begin(), again);
+  std::sort(first_round.begin(), first_round.end());
+  CHECK(std::adjacent_find(first_round.begin(), first_round.end()) == first_round.end());
+  for (std::size_t i = round; i < offered.size(); ++i) CHECK(offered[i] == offered[i - round]);
+}
+
 TEST_CASE("a short skill's question is answered on the host loop") {
   Dialogue d;
   CHECK(d.turn("let us chat", {"green"}) ==
@@ -510,7 +533,9 @@ TEST_CASE("bad input gets a clear answer and runs nothing") {
   const std::string invalid_utf8 = "\xc3\x28 \xa0\xa1 \xf0\x28\x8c\xbc";
   for (const std::string& input : {std::string(), huge, spaced, binary, invalid_utf8}) {
     CAPTURE(input.size());
-    CHECK(d.turn(input) == Lines{no_match});
+    const Lines said = d.turn(input);
+    REQUIRE(said.size() == 1);
+    CHECK(said[0].rfind("Sorry, I don't know how to help with that. You can ask me", 0) == 0);
   }
   CHECK(d.body.motions().empty());
   CHECK(d.data.list_contacts().size() == 1);  // only Anna, as before
