@@ -3,6 +3,7 @@
 //   "turn on the bedroom light"            "switch off the fan"
 //   "dim the living room lights to 30 percent"   "make it brighter"
 //   "is the kitchen light on?"             "turn everything off in the bedroom"
+//   "turn off all the lights" (every room) "turn everything off in the house"
 // The device comes from the room named (or the room the robot is in) and the name; when
 // that leaves several, the skill asks ("The hall light or the bedroom light?"). Every
 // "it's on" is said after the device itself reported it (smarthome_set returns then);
@@ -161,6 +162,24 @@ class HomeSkill : public marvin::Skill {
 
   void report(const std::vector<json>& done) {
     if (done.empty()) return;
+    // Several now alike ("The hall light, the kitchen light and the bedroom light are off."):
+    // each name once, the state once.
+    const json first_on = done[0].value("on", json());
+    const bool alike = done.size() > 1 && first_on.is_boolean() &&
+                       std::all_of(done.begin(), done.end(), [&](const json& d) {
+                         return d.value("on", json()) == first_on &&
+                                describe(d) == "the " + d.value("name", "") +
+                                                   (first_on.get<bool>() ? " is on" : " is off");
+                       });
+    if (alike) {
+      std::string names;
+      for (std::size_t i = 0; i < done.size(); ++i) {
+        if (i > 0) names += i + 1 == done.size() ? " and " : ", ";
+        names += "the " + done[i].value("name", "");
+      }
+      robot().say(capital(names) + (first_on.get<bool>() ? " are on." : " are off."));
+      return;
+    }
     std::string text;
     for (std::size_t i = 0; i < done.size(); ++i) {
       if (i > 0) text += i + 1 == done.size() ? " and " : ", ";
@@ -244,9 +263,14 @@ class HomeSkill : public marvin::Skill {
   void all_off(const json& home, std::string room) {
     room = marvin_home_skill::tidy(room);
     if (room.empty() || room == "here" || room == "this room") room = home.value("room", "");
+    // "everything off in the house": every room.
+    const std::vector<std::string> said = marvin_home_skill::words(room);
+    const bool everywhere =
+        !said.empty() && std::all_of(said.begin(), said.end(), marvin_home_skill::everywhere_word);
+    if (everywhere) room = "house";
     std::vector<json> devices;
     for (const json& d : home["devices"]) {
-      if (d.value("room", "") == room) devices.push_back(d);
+      if (everywhere || d.value("room", "") == room) devices.push_back(d);
     }
     if (devices.empty()) {
       robot().say("I don't know any devices in the " + room + ".");

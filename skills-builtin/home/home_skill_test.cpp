@@ -94,6 +94,35 @@ TEST_CASE("turn everything off in the bedroom") {
   CHECK(state(h, "fan")["on"] == false);
 }
 
+TEST_CASE("all the lights: every light in every room, not only this room's") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);
+  h.robot().set_room("hall");
+  CHECK(h.say("turn on all the lights") ==
+        Lines{"The hall light, the living room lamp, the kitchen light, the bedroom light and "
+              "the bathroom light are on."});
+  CHECK(sent(h) == Lines{R"(smarthome_set hall {"on":true})", R"(smarthome_set lamp {"on":true})",
+                         R"(smarthome_set kitchen {"on":true})", R"(smarthome_set bed {"on":true})",
+                         R"(smarthome_set bath {"on":true})"});
+  CHECK(state(h, "fan")["on"] == false);  // a fan is no light
+  h.robot().clear();
+  CHECK(h.say("switch off every light") ==
+        Lines{"The hall light, the living room lamp, the kitchen light, the bedroom light and "
+              "the bathroom light are off."});
+  CHECK(sent(h).size() == 5);
+  h.say("turn on the fan");
+  h.say("turn on the tv");
+  h.robot().clear();
+  CHECK(h.say("turn everything off in the house") == Lines{"Everything in the house is off."});
+  CHECK(sent(h) == Lines{R"(smarthome_set hall {"on":false})", R"(smarthome_set lamp {"on":false})",
+                         R"(smarthome_set kitchen {"on":false})",
+                         R"(smarthome_set bed {"on":false})", R"(smarthome_set fan {"on":false})",
+                         R"(smarthome_set bath {"on":false})", R"(smarthome_set tv {"on":false})"});
+  // Without "all", "the lights" are still this room's.
+  h.robot().clear();
+  CHECK(h.say("turn on the lights") == Lines{"The hall light is on."});
+}
+
 TEST_CASE("an ambiguous light is asked about; the answer picks it") {
   marvin::testing::SkillHarness h(HOME_SKILL_DIR);
   world(h);
@@ -144,6 +173,11 @@ TEST_CASE("resolve: rooms, kinds, plurals") {
   CHECK(resolve(devices, "the light", "kitchen").matches.size() == 3);
   CHECK(resolve(devices, "the tv", "").matches == std::vector<std::size_t>{4});
   CHECK(resolve(devices, "the toaster", "").matches.empty());
+  const auto all = resolve(devices, "all the lights", "hall");
+  CHECK(all.matches == std::vector<std::size_t>{0, 1, 2});
+  CHECK(all.plural);
+  CHECK(resolve(devices, "the lights in the house", "hall").matches.size() == 3);
+  CHECK(resolve(devices, "both bedroom things", "hall").matches == std::vector<std::size_t>{2, 3});
 }
 
 }  // namespace

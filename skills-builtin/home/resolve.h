@@ -7,6 +7,8 @@
 //      "switch", "tv"); "lights" and the like are plural.
 //   3. Without a room in the phrase, devices in the room the robot is in are preferred.
 //   4. Several left: all of them when the phrase was plural, else ambiguous (the skill asks).
+// "all", "every", "both" or the whole home ("in the house", "everywhere") make the phrase
+// plural and skip 3: "turn off all the lights" means every light, not the ones in this room.
 #pragma once
 
 #include <algorithm>
@@ -52,8 +54,17 @@ inline std::string tidy(const std::string& text) {
 struct Resolution {
   std::vector<std::size_t> matches;  // indices into the devices array
   bool plural = false;               // "lights": every match is meant
+  bool everywhere = false;           // "all the lights", "the lights in the house"
   std::string room;                  // the room named in the phrase, if any
 };
+
+// Words that widen a phrase to every device that fits, in every room.
+inline bool everywhere_word(const std::string& w) {
+  static const std::set<std::string> kWords = {"all",        "every", "each",  "both",
+                                               "everywhere", "house", "home",  "whole",
+                                               "apartment",  "flat",  "entire"};
+  return kWords.count(w) > 0;
+}
 
 inline bool kind_word(const std::string& w, const std::string& type, bool* plural) {
   static const std::vector<std::pair<std::string, std::string>> kinds = {
@@ -104,7 +115,10 @@ inline Resolution resolve(const nlohmann::json& devices, const std::string& phra
     rest.erase(at, at + static_cast<std::ptrdiff_t>(rw.size()));
   }
   rest.erase(std::remove_if(rest.begin(), rest.end(),
-                            [](const std::string& w) { return w == "in" || w == "of"; }),
+                            [&](const std::string& w) {
+                              if (everywhere_word(w)) r.everywhere = r.plural = true;
+                              return w == "in" || w == "of" || everywhere_word(w);
+                            }),
              rest.end());
   for (std::size_t i = 0; i < devices.size(); ++i) {
     const nlohmann::json& d = devices[i];
@@ -126,7 +140,7 @@ inline Resolution resolve(const nlohmann::json& devices, const std::string& phra
     if (fits) r.matches.push_back(i);
   }
   // 3. Several, no room said: the room the robot is in first.
-  if (r.room.empty() && r.matches.size() > 1 && !here.empty()) {
+  if (r.room.empty() && !r.everywhere && r.matches.size() > 1 && !here.empty()) {
     std::vector<std::size_t> local;
     for (std::size_t i : r.matches) {
       if (devices[i].value("room", "") == here) local.push_back(i);
