@@ -3,6 +3,8 @@
 // Saturday, 21 November 2026."; "what's the date tomorrow" -> "Tomorrow is Sunday, ...". With a
 // place ("what time is it in new york"), the time there when the tz database names a zone after it
 // ("America/New_York"); otherwise the local time and a word that the place is unknown.
+// "is it morning or evening?" / "is it night?" -> "It's the evening: 7:10 PM." (someone who
+// has slept in the day may not know, and "evening" alone says more than the clock).
 #include <date/tz.h>
 
 #include <cctype>
@@ -24,7 +26,8 @@ class TimeSkill : public marvin::Skill {
     if (request.intent == "time") {
       const std::string place = request.slots.value("place", std::string());
       if (place.empty()) {
-        robot().say("It's " + clock_text(local) + ".");
+        const std::string part = asks_part_of_day(request.utterance) ? part_of_day(local) : "";
+        robot().say("It's " + (part.empty() ? "" : part + ": ") + clock_text(local) + ".");
         return;
       }
       if (const date::time_zone* there = zone_named_after(place)) {
@@ -71,6 +74,34 @@ class TimeSkill : public marvin::Skill {
                                    date::day{static_cast<unsigned>(d)}};
     if (!ymd.ok()) return std::nullopt;
     return date::local_days{ymd};
+  }
+
+  // "is it morning", "day or night", "what part of the day is it".
+  static bool asks_part_of_day(const std::string& utterance) {
+    std::string word;
+    for (char c : utterance + " ") {
+      if (std::isalpha(static_cast<unsigned char>(c))) {
+        word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        continue;
+      }
+      for (const char* part : {"morning", "afternoon", "evening", "night", "nighttime",
+                               "daytime", "day"}) {
+        if (word == part) return true;
+      }
+      word.clear();
+    }
+    return false;
+  }
+
+  // Morning 5-12, afternoon 12-18, evening 18-22, night 22-5.
+  static std::string part_of_day(date::local_seconds local) {
+    const auto hour = std::chrono::duration_cast<std::chrono::hours>(
+                          local - date::floor<date::days>(local))
+                          .count();
+    if (hour >= 5 && hour < 12) return "the morning";
+    if (hour >= 12 && hour < 18) return "the afternoon";
+    if (hour >= 18 && hour < 22) return "the evening";
+    return "night";
   }
 
   static std::string clock_text(date::local_seconds local) {

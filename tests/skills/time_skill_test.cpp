@@ -41,6 +41,20 @@ TEST_CASE("the date of another day: tomorrow, a weekday") {
   CHECK(harness.say("what is the date today") == Lines{"Today is Saturday, 21 November 2026."});
 }
 
+TEST_CASE("is it morning or evening: the part of the day, then the clock") {
+  marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
+  harness.robot().set_now(kSaturdayAfternoonUtc);
+  harness.robot().set_time_zone("Europe/Berlin");
+  CHECK(harness.say("is it morning or afternoon") == Lines{"It's the afternoon: 3:05 PM."});
+  harness.robot().set_time_zone("America/New_York");
+  CHECK(harness.say("is it still morning") == Lines{"It's the morning: 9:05 AM."});
+  harness.robot().set_time_zone("Pacific/Kiritimati");  // 4:05 AM
+  CHECK(harness.say("is it day or night") == Lines{"It's night: 4:05 AM."});
+  harness.robot().set_time_zone("Asia/Kolkata");  // 7:35 PM
+  CHECK(harness.say("what part of the day is it") == Lines{"It's the evening: 7:35 PM."});
+  CHECK(harness.say("what time is it") == Lines{"It's 7:35 PM."});
+}
+
 TEST_CASE("midnight and noon read as 12") {
   marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
   harness.robot().set_time_zone("UTC");
