@@ -288,6 +288,11 @@ const std::vector<std::string>& background_sentences() {
       "translate thank you so much into japanese", "what does merci mean",
       "what does auf wiedersehen mean", "how do people say bye in hindi",
       "how do you write good night in arabic", "the word for cheers in swedish",
+      // Feeling fine, or feeling like doing something: the phone skill answers only feeling
+      // unwell or lonely.
+      "i feel fantastic this morning", "i am feeling much better now", "i feel really good",
+      "i'm feeling happy today", "i feel like a cup of tea", "i feel like watching a film",
+      "i feel so relaxed", "i'm doing fine thanks",
       // Alerts on events in the world, not at a time: no skill watches prices or parcels.
       "alert me when bitcoin drops below 20000", "notify me when my parcel ships",
       "let me know if it starts to rain later", "tell me when petrol gets cheaper",

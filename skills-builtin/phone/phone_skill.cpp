@@ -8,7 +8,9 @@
 // rings cancels the request and the skill hangs up. Incoming calls are announced by the
 // host ("Anna is calling"); "answer" and "decline" come here. "Call for help" asks
 // nothing: the host calls the emergency contacts in order and logs every step; the skill
-// says them.
+// says them. "I don't feel well" offers to call for help; "I'm lonely" / "I feel sad" offers to
+// call someone (the person the answer names, or asks whom).
+#include <cctype>
 #include <marvin/skill.hpp>
 #include <optional>
 #include <string>
@@ -42,6 +44,61 @@ bool means_help(const std::string& who) {
          w == "emergency" || w == "the emergency";
 }
 
+// Whom an answer to "Shall I call ...?" names: "yes, call my daughter" -> "my daughter",
+// "Anna please" -> "Anna"; "" for a bare yes or no.
+std::string named_callee(const std::string& answer) {
+  std::string a = lower(answer);
+  for (char& c : a) {
+    if (c == ',' || c == '.' || c == '!' || c == '?') c = ' ';
+  }
+  auto drop = [&](const char* word) {
+    const std::string w = std::string(word) + " ";
+    if ((a + " ").rfind(w, 0) != 0) return false;
+    a = a.size() > w.size() ? a.substr(w.size()) : "";
+    a.erase(0, a.find_first_not_of(' '));
+    return true;
+  };
+  while (drop("yes") || drop("yeah") || drop("ok") || drop("okay") || drop("please") ||
+         drop("call") || drop("phone") || drop("ring") || drop("up")) {
+  }
+  for (const char* tail : {" please", " for me", " now"}) {
+    const std::string t = tail;
+    while (a.size() > t.size() && a.compare(a.size() - t.size(), t.size(), t) == 0) {
+      a.erase(a.size() - t.size());
+    }
+  }
+  while (!a.empty() && a.back() == ' ') a.pop_back();
+  static const char* kNotNames[] = {"no",      "nope",     "not now",   "not really",
+                                    "nobody",  "sure",     "do it",     "go ahead",
+                                    "someone", "somebody", "never mind"};
+  for (const char* n : kNotNames) {
+    if (a == n || a.rfind(std::string(n) + " ", 0) == 0) return "";
+  }
+  return a;
+}
+
+// True when a request says its speaker feels bad: "i do not feel well", "i feel
+// dizzy", "i am a bit under the weather"; false for "i feel great".
+bool says_unwell(const std::string& utterance) {
+  static const char* kBad[] = {"not",     "no",       "don't",    "dont",   "can't", "isn't",
+                               "sick",    "ill",      "unwell",   "dizzy",  "faint", "poorly",
+                               "awful",   "terrible", "bad",      "weak",   "pain",  "hurt",
+                               "hurts",   "weather",  "nauseous", "queasy", "rough", "funny",
+                               "strange", "worse",    "off",      "shaky"};
+  std::string word;
+  for (char c : lower(utterance) + " ") {
+    if (std::isalpha(static_cast<unsigned char>(c)) || c == '\'') {
+      word += c;
+      continue;
+    }
+    for (const char* bad : kBad) {
+      if (word == bad) return true;
+    }
+    word.clear();
+  }
+  return false;
+}
+
 class PhoneSkill : public marvin::Skill {
  public:
   using marvin::Skill::Skill;
@@ -58,6 +115,8 @@ class PhoneSkill : public marvin::Skill {
     if (intent == "answer") return answer();
     if (intent == "decline") return decline();
     if (intent == "emergency") return call_for_help();
+    if (intent == "unwell") return unwell(request.utterance);
+    if (intent == "lonely") return lonely();
   }
 
  private:
@@ -76,7 +135,49 @@ class PhoneSkill : public marvin::Skill {
     }
   }
 
-  void call(const std::string& who) {
+  // True when `who` is someone or a number the phone could call ("I'm fine" is not).
+  bool callable(const std::string& who) {
+    try {
+      return robot().phone_resolve(who).value("kind", "unknown") != "unknown";
+    } catch (const marvin::Error&) {
+      return false;  // no telephone: call() will say so
+    }
+  }
+
+  // Asks before anyone is called: feeling unwell is not yet an emergency. The intent model
+  // hears "I feel great" close to "I don't feel good" (it weighs words, not their order), so
+  // a request without a word of feeling bad is taken as the good news it is.
+  void unwell(const std::string& utterance) {
+    if (!says_unwell(utterance)) {
+      robot().say("I'm glad to hear that.");
+      return;
+    }
+    const std::string answer =
+        robot().ask("I'm sorry you're not feeling well. Shall I call for help?");
+    const std::string named = named_callee(answer);
+    if (!named.empty() && !means_help(named) && callable(named)) return call(named, false);
+    if (is_yes(answer) || means_help(named)) return call_for_help();
+    robot().say(
+        "OK. If you feel worse, say \"call for help\" and I'll call your emergency "
+        "contacts.");
+  }
+
+  void lonely() {
+    const std::string answer = robot().ask("I'm sorry to hear that. Shall I call someone for you?");
+    std::string named = named_callee(answer);
+    if (!named.empty() && !is_yes(answer) && !callable(named)) named.clear();  // "I'm fine"
+    if (named.empty() && is_yes(answer)) named = named_callee(robot().ask("Whom should I call?"));
+    if (named.empty()) {
+      robot().say("OK. I'm here if you need me.");
+      return;
+    }
+    if (means_help(named)) return call_for_help();
+    call(named, false);
+  }
+
+  // `confirm`: ask "Call Anna Schmidt?" first; not when the user has just named whom to call
+  // in answer to an offer.
+  void call(const std::string& who, bool confirm = true) {
     json callee;
     if (!phone([&] { callee = robot().phone_resolve(who); })) return;
     std::string kind = callee.value("kind", "unknown");
@@ -98,7 +199,7 @@ class PhoneSkill : public marvin::Skill {
     }
     const std::string number = callee.value("number", "");
     const std::string name = kind == "contact" ? callee.value("name", number) : number;
-    if (!is_yes(robot().ask(callee.value("say", "Call " + name + "?")))) {
+    if (confirm && !is_yes(robot().ask(callee.value("say", "Call " + name + "?")))) {
       robot().say("OK, I won't call.");
       return;
     }

@@ -137,6 +137,55 @@ TEST_CASE("call for help: no question, the emergency contacts in order, each ste
   CHECK(h.say("emergency").back() == "Nobody answered the emergency call.");
 }
 
+TEST_CASE("I don't feel well: asks before calling for help; good news is only answered") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  CHECK(h.intent_of("I don't feel well") == "phone/unwell");
+  CHECK(
+      h.say("I'm not feeling well", {"no, I'll be fine"}) ==
+      Lines{"I'm sorry you're not feeling well. Shall I call for help?",
+            "OK. If you feel worse, say \"call for help\" and I'll call your emergency contacts."});
+  CHECK(dialled(h).empty());
+  CHECK(h.say("I don't feel well", {"yes please"}) ==
+        Lines{"I'm sorry you're not feeling well. Shall I call for help?",
+              "Calling Anna Schmidt for help.", "Anna Schmidt answered the emergency call.",
+              "You're connected to Anna Schmidt."});
+  h.say("hang up");
+  h.robot().clear();
+  // Naming someone calls them, without asking again.
+  CHECK(h.say("I feel dizzy", {"yes, call Doctor Brown"}) ==
+        Lines{"I'm sorry you're not feeling well. Shall I call for help?", "Ringing Doctor Brown.",
+              "You're connected to Doctor Brown."});
+  CHECK(dialled(h) == Lines{"phone_dial 0301 555 0100"});
+  h.say("hang up");
+  h.robot().clear();
+  // The model hears "I feel great" as this intent (it weighs words, not their order): no
+  // question, nothing dialled.
+  REQUIRE(h.intent_of("I feel great today") == "phone/unwell");
+  CHECK(h.say("I feel great today") == Lines{"I'm glad to hear that."});
+  CHECK(h.robot().asked().empty());
+  CHECK(dialled(h).empty());
+}
+
+TEST_CASE("I'm lonely: offers to call someone, asks whom; no or an answer naming no one") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  CHECK(h.intent_of("I feel lonely") == "phone/lonely");
+  CHECK(h.say("I'm so lonely", {"yes", "my daughter"}) ==
+        Lines{"I'm sorry to hear that. Shall I call someone for you?", "Whom should I call?",
+              "Ringing Anna Schmidt.", "You're connected to Anna Schmidt."});
+  CHECK(dialled(h) == Lines{"phone_dial sip:anna@127.0.0.1"});
+  h.say("hang up");
+  h.robot().clear();
+  for (const char* answer : {"no thanks", "I'm fine", "not really"}) {
+    CAPTURE(answer);
+    CHECK(h.say("I feel lonely", {answer}) ==
+          Lines{"I'm sorry to hear that. Shall I call someone for you?",
+                "OK. I'm here if you need me."});
+  }
+  CHECK(dialled(h).empty());
+}
+
 TEST_CASE("bad input: no telephone, a refused registration, no emergency contact") {
   marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
   CHECK(h.say("call for help") ==
