@@ -87,7 +87,8 @@ class PersonalData {
   // The default implementation throws.
   virtual bool complete_reminder(std::int64_t id);
 
-  // Contacts. find_contacts matches name or alias, case-insensitively.
+  // Contacts. find_contacts matches name or alias, case-insensitively, or the relation said
+  // as people say it ("daughter", "my daughter").
   virtual std::int64_t add_contact(const Contact& contact) = 0;
   virtual std::vector<Contact> find_contacts(std::string_view name_or_alias) = 0;
   virtual std::vector<Contact> list_contacts() = 0;

@@ -478,12 +478,14 @@ std::vector<Contact> SqliteStore::find_contacts(std::string_view name_or_alias) 
   const std::string folded = lower_ascii(name_or_alias);
   if (folded.empty()) return {};
   std::lock_guard lock(mutex_);
-  // The full name, an alias, or one word of the name ("Anna" finds "Anna Schmidt"):
-  // exact matches first. Case folding is ASCII (SQLite's lower() without ICU).
+  // The full name, an alias, one word of the name ("Anna" finds "Anna Schmidt") or the
+  // relation ("my daughter"): exact matches first. Case folding is ASCII (SQLite's lower()
+  // without ICU).
   return load_contacts(
       db_, path_text_,
       "WHERE lower(name) = ?1 OR id IN (SELECT contact_id FROM contact_aliases WHERE "
       "lower(alias) = ?2) OR (' ' || lower(name) || ' ') LIKE ('% ' || ?3 || ' %') ESCAPE '\\' "
+      "OR (relation <> '' AND (lower(relation) = ?1 OR 'my ' || lower(relation) = ?1)) "
       "ORDER BY lower(name) <> ?1, name, id",
       [&](Statement& s) {
         std::string pattern;

@@ -102,6 +102,9 @@ std::vector<data::Contact> InMemoryPersonalData::find_contacts(std::string_view 
   for (const auto& [id, c] : contacts_) {
     bool hit = lower(c.name) == wanted;
     for (const std::string& alias : c.aliases) hit = hit || lower(alias) == wanted;
+    // The relation as people say it: "daughter", "my daughter".
+    const std::string relation = lower(c.relation);
+    hit = hit || (!relation.empty() && (relation == wanted || "my " + relation == wanted));
     if (hit) out.push_back(c);
   }
   return out;

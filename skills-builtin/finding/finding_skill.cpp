@@ -64,6 +64,21 @@ struct Wanted {
   }
 };
 
+// "wife", "grandson": someone, not a thing, though no contact has that relation.
+bool is_relation(const std::string& word) {
+  static const char* kRelations[] = {
+      "wife",          "husband",     "partner",     "daughter", "son",           "child",
+      "children",      "kids",        "mother",      "father",   "mum",           "mom",
+      "dad",           "sister",      "brother",     "grandson", "granddaughter", "grandchild",
+      "grandchildren", "grandmother", "grandfather", "grandma",  "grandpa",       "niece",
+      "nephew",        "aunt",        "uncle",       "cousin",   "carer",         "caregiver",
+      "nurse",         "neighbour",   "neighbor",    "friend",   "family"};
+  for (const char* r : kRelations) {
+    if (word == r) return true;
+  }
+  return false;
+}
+
 // "in the kitchen, near the kitchen table"
 std::string where_words(const json& s) {
   std::string out;
@@ -100,6 +115,15 @@ class FindingSkill : public marvin::Skill {
   Wanted wanted(std::string what) {
     what = trim_end(lower(what));
     Wanted w;
+    // "my daughter" is the contact whose relation that is: a person, by name.
+    if (what.rfind("my ", 0) == 0) {
+      const json contacts = robot().contacts_find(what);
+      if (!contacts.empty()) {
+        w.person = true;
+        w.key = capitalised(contacts[0].value("name", what.substr(3)));
+        return w;
+      }
+    }
     if (what.rfind("my ", 0) == 0) {
       w.mine = true;
       w.key = what.substr(3);
@@ -126,6 +150,11 @@ class FindingSkill : public marvin::Skill {
                 w.key + " is in front of me, say \"this is " + w.key + "\".");
   }
 
+  // "my wife" with no contact of that relation: how to add one.
+  void say_relation_unknown(const std::string& relation) {
+    robot().say("I don't know who your " + relation + " is. To tell me, say \"add a contact\".");
+  }
+
   bool is_person(const std::string& name) {
     if (auto place = robot().place_find(name)) {
       if (place->value("kind", "") == "person") return true;
@@ -136,7 +165,8 @@ class FindingSkill : public marvin::Skill {
     for (const json& s : robot().sightings_find(name)) {
       if (s.value("kind", "") == "person") return true;
     }
-    return false;
+    // A contact ("where is Tom", the son) is someone, though Marvin may not know the face.
+    return !robot().contacts_find(name).empty();
   }
 
   // The newest sighting of `w`, if any.
@@ -171,6 +201,7 @@ class FindingSkill : public marvin::Skill {
       say_face_unknown(w);
       return;
     }
+    if (w.mine && !seen && !recognisable && is_relation(w.key)) return say_relation_unknown(w.key);
     if (!w.person && !seen && !recognisable) {
       robot().say("I don't know what " + w.said() + " look like, and I have never seen " +
                   (w.mine ? "them" : w.said()) + ". Show me and say \"these are my " + w.key +
@@ -397,11 +428,10 @@ class FindingSkill : public marvin::Skill {
   }
 
   void tell(const std::string& name_said, const std::string& message) {
-    Wanted w;
-    w.key = capitalised(trim_end(lower(name_said)));
-    w.person = true;
-    if (!is_person(lower(w.key))) {
-      robot().say("I don't know anyone called " + w.key + ".");
+    Wanted w = wanted(name_said);  // "my daughter" -> Anna
+    if (!w.person) {
+      if (w.mine) return say_relation_unknown(w.key);
+      robot().say("I don't know anyone called " + capitalised(w.key) + ".");
       return;
     }
     std::string first;

@@ -73,6 +73,21 @@ TEST_CASE("tell Anna dinner is ready: goes to her and says it; nobody called Bob
   CHECK(h.robot().room() == "living room");
   CHECK(h.say("tell bob dinner is ready") == Lines{"I don't know anyone called Bob."});
   CHECK(h.say("find bob") == Lines{"I don't know who or what bob is."});
+  // A contact whose face Marvin does not know: no search, how to introduce them.
+  h.robot().add_contact_json(R"({"name": "Tom", "relation": "son"})");
+  CHECK(h.say("where is tom") ==
+        Lines{"I don't know Tom's face yet, so I can't look for Tom. When Tom is in front of me, "
+              "say \"this is Tom\"."});
+  CHECK(h.robot().room() == "living room");  // it did not go looking
+  // "my son" is Tom, by the contact's relation (before: a thing called "son").
+  CHECK(h.say("where is my son") ==
+        Lines{"I don't know Tom's face yet, so I can't look for Tom. When Tom is in front of me, "
+              "say \"this is Tom\"."});
+  CHECK(h.say("tell my son lunch is ready") ==
+        Lines{"I don't know Tom's face yet, so I can't look for Tom. When Tom is in front of me, "
+              "say \"this is Tom\"."});
+  CHECK(h.say("where is my wife") ==
+        Lines{"I don't know who your wife is. To tell me, say \"add a contact\"."});
 }
 
 TEST_CASE("where are my keys: search, report, lead the way; never seen and never taught") {

@@ -286,6 +286,13 @@ TEST_CASE("contacts: find by name, word of the name or alias, case-insensitively
   CHECK(store.find_contacts("anna").at(0).id == a);
   CHECK(store.find_contacts("My Daughter").at(0).id == a);
   CHECK(store.find_contacts("annaberg").at(0).id == b);
+  Contact tom;
+  tom.name = "Tom";
+  tom.relation = "son";
+  const auto t = store.add_contact(tom);
+  CHECK(store.find_contacts("my son").at(0).id == t);  // the relation, without an alias
+  CHECK(store.find_contacts("Son").at(0).id == t);
+  CHECK(store.find_contacts("my sons").empty());
   CHECK(store.find_contacts("ann").empty());
   CHECK(store.find_contacts("%").empty());
   CHECK(store.find_contacts("").empty());
@@ -299,7 +306,7 @@ TEST_CASE("contacts: find by name, word of the name or alias, case-insensitively
   CHECK_FALSE(store.remove_contact(a));
   CHECK(store.list_people().at(0).id == p);
   CHECK_FALSE(store.list_people().at(0).contact_id.has_value());
-  CHECK(store.list_contacts().size() == 1);
+  CHECK(store.list_contacts().size() == 2);  // Bob and Tom
 }
 
 TEST_CASE("contacts keep SIP addresses and their emergency order, also through a backup") {
