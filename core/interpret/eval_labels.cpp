@@ -12,6 +12,7 @@ const std::vector<std::pair<std::string, std::string>>& default_eval_labels() {
       {"schedule/list_reminders", "reminder_query"},
       {"schedule/agenda", "schedule_query"},
       {"schedule/agenda_today", "schedule_query"},
+      {"schedule/when_is", "schedule_query"},
       {"schedule/add_event", "schedule_change"},
       {"schedule/cancel", "schedule_change"},
       {"schedule/set_timer", "timer"},
@@ -23,6 +24,8 @@ const std::vector<std::pair<std::string, std::string>>& default_eval_labels() {
       {"hello-lua/about", "about"},
       {"medication/add", "reminder_set"},
       {"call/*", "call"},
+      {"phone/unwell", "unwell"},  // no label of the set: never right, and acted on
+      {"phone/lonely", "lonely"},
       {"phone/*", "call"},
       {"home/*", "smart_home"},  // skills-builtin/home: turn_on, turn_off, set_level, ...
   };

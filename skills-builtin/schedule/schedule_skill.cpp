@@ -2,7 +2,9 @@
 //   "remind me to take my pills at 8 pm"           -> a one-off reminder
 //   "remind me every day at 9 to water the plants" -> a recurring one
 //   "what's on my schedule tomorrow"               -> that day's reminders, recurring included
+//   "when is my dentist appointment"               -> "Dentist appointment: on Friday, ..."
 //   "cancel the pill reminder"                     -> cancels the one reminder that matches
+//   "delete all my reminders"                      -> asks, then cancels every reminder
 //   "add a contact"                                -> asks name and number
 //   "what is Anna's number"
 //   "snooze" / "remind me again in 20 minutes" -> the reminder that fired last fires again
@@ -162,12 +164,13 @@ class ScheduleSkill : public marvin::Skill {
       return agenda(first);
     }
     if (request.intent == "agenda_today") return agenda(today());
+    if (request.intent == "when_is") return when_is(request.slots.at("task").get<std::string>());
     if (request.intent == "cancel") return cancel(request.slots.at("task").get<std::string>());
     if (request.intent == "snooze") return snooze(request);
     if (request.intent == "done") return done();
     if (request.intent == "add_contact") return add_contact(request);
     if (request.intent == "contact_number") return contact_number(request.slots.at("name").get<std::string>());
-    if (request.intent == "add_event") return remind(request);
+    if (request.intent == "add_event") return remind(request, true);
     if (request.intent == "list_reminders") return list_reminders();
     if (request.intent == "set_timer") return set_timer(request.slots.at("duration").get<std::int64_t>());
     if (request.intent == "timer_left") return timer_left();
@@ -184,7 +187,8 @@ class ScheduleSkill : public marvin::Skill {
 
   // The task is optional in skill.json so that an alarm ("wake me at 6", "set an alarm for 7")
   // is not asked "what should I remind you of?"; any other reminder without one is asked here.
-  void remind(const marvin::Request& request) {
+  // `event`: "add the dentist to my calendar" is said back as an entry, not as a task.
+  void remind(const marvin::Request& request, bool event = false) {
     const json& when = request.slots.at("when");
     if (!request.slots.contains("task") && is_alarm(request.utterance)) {
       const json created = add_reminder(kAlarmTitle, when);
@@ -202,6 +206,11 @@ class ScheduleSkill : public marvin::Skill {
       }
     }
     const json created = add_reminder(task, when);
+    if (event) {
+      robot().say("OK, I put " + second_person(task) + " on your calendar " + spoken_when(created) +
+                  ".");
+      return;
+    }
     robot().say("OK, I'll remind you to " + second_person(task) + " " + spoken_when(created) + ".");
   }
 
@@ -411,21 +420,80 @@ class ScheduleSkill : public marvin::Skill {
     return entries;
   }
 
-  void cancel(const std::string& task) {
+  // The words of `task` a title must contain ("my pills" -> "pill"), without the words that
+  // say nothing about which ("the", "reminder", "appointment", ...: `generic`).
+  static std::vector<std::string> wanted_words(const std::string& task,
+                                               std::initializer_list<const char*> generic) {
     std::vector<std::string> wanted;
     for (std::string w : words_of(lower(task))) {
-      if (w == "the" || w == "my" || w == "a" || w == "an" || w == "reminder" || w == "to") continue;
+      if (w.size() > 2 && w.compare(w.size() - 2, 2, "'s") == 0) w.resize(w.size() - 2);
+      if (w == "the" || w == "my" || w == "a" || w == "an" || w == "to" ||
+          std::any_of(generic.begin(), generic.end(), [&](const char* g) { return w == g; })) {
+        continue;
+      }
       if (w.size() > 3 && w.back() == 's') w.pop_back();  // "pills" finds "pill" and back
       wanted.push_back(w);
     }
-    const json all = robot().schedule_list(0, std::numeric_limits<std::int64_t>::max());
+    return wanted;
+  }
+
+  // The reminders whose title holds every wanted word, soonest first; every reminder but
+  // the timers when nothing is wanted and `all_when_empty`.
+  std::vector<json> matching(const std::vector<std::string>& wanted, bool all_when_empty) {
     std::vector<json> hits;
-    for (const json& r : all) {
+    for (const json& r : robot().schedule_list(0, std::numeric_limits<std::int64_t>::max())) {
       const std::string title = lower(r.value("title", ""));
-      if (!wanted.empty() && std::all_of(wanted.begin(), wanted.end(), [&](const std::string& w) {
-            return title.find(w) != std::string::npos;
-          }))
+      if (wanted.empty() ? all_when_empty && title != kTimerTitle
+                         : std::all_of(wanted.begin(), wanted.end(), [&](const std::string& w) {
+                             return title.find(w) != std::string::npos;
+                           })) {
         hits.push_back(r);
+      }
+    }
+    return hits;
+  }
+
+  // "when is my dentist appointment" -> the soonest that matches; "my next appointment" ->
+  // the soonest of all.
+  void when_is(const std::string& task) {
+    const std::vector<std::string> wanted =
+        wanted_words(task, {"next", "appointment", "appointments", "reminder", "event", "thing",
+                            "on", "calendar", "schedule", "of", "in", "have", "need", "got"});
+    const std::vector<json> hits = matching(wanted, true);
+    if (hits.empty()) {
+      robot().say(wanted.empty()
+                      ? "You have nothing on your schedule."
+                      : "I don't see your " + second_person(task) + " on your schedule.");
+      return;
+    }
+    robot().say(capital(second_person(hits[0].value("title", ""))) + ": " + spoken_when(hits[0]) +
+                ".");
+  }
+
+  void cancel(const std::string& task) {
+    // "all my", "all of them", "every": every reminder, after a question.
+    const std::vector<std::string> wanted =
+        wanted_words(task, {"reminder", "all", "every", "of", "them", "alarm", "alarms"});
+    const std::vector<std::string> said = words_of(lower(task));
+    const bool all = std::find(said.begin(), said.end(), "all") != said.end() ||
+                     std::find(said.begin(), said.end(), "every") != said.end();
+    const std::vector<json> hits = matching(wanted, all);
+    const bool everything = all && wanted.empty();
+    if (everything && hits.empty()) {
+      robot().say("You have no reminders to cancel.");
+      return;
+    }
+    // Several, by "all": asked without reading them out (one is cancelled as any one is).
+    if (everything && hits.size() > 1) {
+      const std::string answer = lower(robot().ask("You have " + std::to_string(hits.size()) +
+                                                   " reminders. Should I cancel all of them?"));
+      if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please do") {
+        robot().say("OK, I kept them.");
+        return;
+      }
+      for (const json& r : hits) robot().schedule_remove(r.at("id").get<std::int64_t>());
+      robot().say("OK, I cancelled all " + std::to_string(hits.size()) + " reminders.");
+      return;
     }
     if (hits.empty()) {
       robot().say("I couldn't find a reminder about " + second_person(task) + ".");

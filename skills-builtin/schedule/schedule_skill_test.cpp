@@ -110,6 +110,40 @@ TEST_CASE("cancel the pill reminder: only the matching one goes") {
   CHECK(reminders(h).size() == 1);
 }
 
+TEST_CASE("delete all my reminders: asks first; no keeps them, yes cancels every one") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  CHECK(h.say("delete all my reminders") == Lines{"You have no reminders to cancel."});
+  h.say("remind me to take my pills at 8 pm");
+  h.say("remind me every day at 9 to water the plants");
+  h.say("set a timer for 10 minutes");
+  CHECK(h.say("delete all my reminders", {"no"}) ==
+        Lines{"You have 2 reminders. Should I cancel all of them?", "OK, I kept them."});
+  CHECK(reminders(h).size() == 3);
+  CHECK(h.say("cancel all my reminders", {"yes"}) ==
+        Lines{"You have 2 reminders. Should I cancel all of them?",
+              "OK, I cancelled all 2 reminders."});
+  const auto stored = reminders(h);
+  REQUIRE(stored.size() == 1);  // the timer is no reminder
+  CHECK(stored[0]["title"] == "your timer is done");
+}
+
+TEST_CASE("when is my dentist appointment; my next appointment; the calendar said back") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  CHECK(h.say("when is my next appointment") == Lines{"You have nothing on your schedule."});
+  CHECK(h.say("add the dentist appointment to my calendar on friday at 3 pm") ==
+        Lines{"OK, I put the dentist appointment on your calendar on Friday, 9 January at 3 PM."});
+  h.say("remind me every day at 9 to take my pills");
+  CHECK(h.say("when is my dentist appointment") ==
+        Lines{"The dentist appointment: on Friday, 9 January at 3 PM."});
+  CHECK(h.say("when do I have to take my pills") == Lines{"Take your pills: every day at 9 AM."});
+  CHECK(h.say("when is my next appointment") == Lines{"Take your pills: every day at 9 AM."});
+  CHECK(h.say("what time is my hair appointment") ==
+        Lines{"I don't see your hair appointment on your schedule."});
+  CHECK(reminders(h).size() == 2);
+}
+
 TEST_CASE("add a contact asks name and number; what is Anna's number") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   CHECK(h.say("add a contact", {"Anna Schmidt", "0171 555 0101"}) ==
