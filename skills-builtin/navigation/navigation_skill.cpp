@@ -7,10 +7,16 @@
 
 namespace {
 
-// "The Kitchen" -> "kitchen": how the robot's map compares names.
+// "The Kitchen" -> "kitchen", "your charger" -> "charger": how the robot's map compares names.
 std::string plain(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (s.rfind("the ", 0) == 0) s.erase(0, 4);
+  for (const char* article : {"the ", "my ", "your ", "our ", "a "}) {
+    const std::string a = article;
+    if (s.rfind(a, 0) == 0) {
+      s.erase(0, a.size());
+      break;
+    }
+  }
   while (!s.empty() && (s.back() == '.' || s.back() == '!' || s.back() == ' ')) s.pop_back();
   return s;
 }
@@ -48,8 +54,22 @@ class NavigationSkill : public marvin::Skill {
     return "the " + place;
   }
 
+  // False when the map knows no such place (an older host cannot say: true).
+  bool on_map(const std::string& place) {
+    try {
+      return robot().place_find(place).has_value();
+    } catch (const marvin::Error&) {
+      return true;  // API before 1.3 or no map: go_to will tell
+    }
+  }
+
   void go(const std::string& place, const std::string& arrived) {
     const std::string shown = shown_name(place);
+    // Not "On my way" to somewhere it cannot go.
+    if (place != "me" && !on_map(place)) {
+      robot().say("Sorry, I don't know where " + shown + " is.");
+      return;
+    }
     try {
       robot().say("On my way to " + shown + ".");
       robot().go_to(place);

@@ -27,7 +27,13 @@ TEST_CASE("a place in a room, come here, and places the robot does not know") {
   h.robot().set_room("hall");
   CHECK(h.say("come here").back() == "I'm here.");
   CHECK(h.robot().room() == "living room");
-  CHECK(h.say("go to the garage").back() == "Sorry, I don't know where the garage is.");
+  // An unknown place: said at once, and the robot does not set off.
+  CHECK(h.say("go to the garage") ==
+        std::vector<std::string>{"Sorry, I don't know where the garage is."});
+  CHECK(h.say("go back to your charger") ==
+        std::vector<std::string>{"Sorry, I don't know where the charger is."});
+  CHECK(h.robot().room() == "living room");
+  CHECK(h.say("go to my sofa").front() == "On my way to the sofa.");
 }
 
 TEST_CASE("come here without knowing where the user is") {
@@ -37,6 +43,7 @@ TEST_CASE("come here without knowing where the user is") {
 
 TEST_CASE("a blocked way is explained") {
   SkillHarness h(NAVIGATION_SKILL_DIR);
+  h.robot().add_place("kitchen", "kitchen");
   h.robot().block_place("kitchen", "the kitchen door is blocked");
   CHECK(h.say("go to the kitchen").back() ==
         "Sorry, I can't get to the kitchen: the kitchen door is blocked.");
