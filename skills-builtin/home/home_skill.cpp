@@ -10,6 +10,7 @@
 // otherwise the skill says the device did not answer, or that the home's hub is not
 // reachable (the host keeps reconnecting meanwhile).
 #include <algorithm>
+#include <cctype>
 #include <marvin/skill.hpp>
 #include <optional>
 #include <string>
@@ -26,6 +27,22 @@ using marvin_home_skill::Resolution;
 using nlohmann::json;
 
 constexpr int kStep = 25;  // "brighter": a quarter of the range
+
+// "what's the temperature in the living room", "how warm is the fridge set".
+bool asks_temperature(const std::string& utterance) {
+  std::string word;
+  for (char c : utterance + " ") {
+    if (std::isalpha(static_cast<unsigned char>(c))) {
+      word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      continue;
+    }
+    for (const char* w : {"temperature", "warm", "warmer", "cold", "colder", "hot", "degrees"}) {
+      if (word == w) return true;
+    }
+    word.clear();
+  }
+  return false;
+}
 
 class HomeSkill : public marvin::Skill {
  public:
@@ -49,7 +66,14 @@ class HomeSkill : public marvin::Skill {
     if (intent == "brighter" || intent == "dimmer") {
       return step(*home, text("device"), intent == "brighter" ? kStep : -kStep);
     }
-    if (intent == "query") return query(*home, text("device"));
+    if (intent == "query") {
+      // Lights, fans and switches say on, off and how bright; none of them is a thermometer.
+      if (asks_temperature(request.utterance)) {
+        robot().say("Sorry, I can't tell the temperature: none of your devices measures it.");
+        return;
+      }
+      return query(*home, text("device"));
+    }
     if (intent == "all_off") return all_off(*home, text("room"));
   }
 

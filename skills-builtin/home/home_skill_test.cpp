@@ -53,6 +53,11 @@ TEST_CASE("turn on the bedroom light; switch off the fan; is the kitchen light o
   CHECK(h.say("is the kitchen light on?") == Lines{"No, the kitchen light is off."});
   CHECK(h.say("is the fan on") == Lines{"No, the bedroom fan is off."});
   CHECK(h.say("switch on the big lamp") == Lines{"The living room lamp is on."});
+  // No device of this home measures temperature: said so, not the lamps' state.
+  h.robot().clear();
+  CHECK(h.say("what's the temperature in the living room") ==
+        Lines{"Sorry, I can't tell the temperature: none of your devices measures it."});
+  CHECK(sent(h).empty());
 }
 
 TEST_CASE("dim the living room lights to 30 percent, then make it brighter") {
