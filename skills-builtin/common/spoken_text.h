@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cctype>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,17 @@ inline std::string join_and(const std::vector<std::string>& parts) {
     out += parts[i];
   }
   return out;
+}
+
+// How long ago `ms` milliseconds is, said: "just now", "a minute ago", "20 minutes ago",
+// "an hour ago", "5 hours ago".
+inline std::string ago(std::int64_t ms) {
+  const std::int64_t minutes = ms / 60000;
+  if (minutes < 1) return "just now";
+  if (minutes == 1) return "a minute ago";
+  if (minutes < 60) return std::to_string(minutes) + " minutes ago";
+  const std::int64_t hours = minutes / 60;
+  return hours == 1 ? "an hour ago" : std::to_string(hours) + " hours ago";
 }
 
 }  // namespace marvin::builtin

@@ -22,6 +22,7 @@
 
 namespace {
 
+using marvin::builtin::ago;
 using marvin::builtin::capitalised;
 using marvin::builtin::join_and;
 using marvin::builtin::lower;
@@ -41,16 +42,6 @@ std::string strip_prefix(std::string s, const char* prefix) {
   const std::string p = prefix;
   if (s.rfind(p, 0) == 0) s.erase(0, p.size());
   return s;
-}
-
-// "10 minutes ago", "just now", "2 hours ago".
-std::string ago(std::int64_t ms) {
-  const std::int64_t minutes = ms / 60000;
-  if (minutes < 1) return "just now";
-  if (minutes == 1) return "a minute ago";
-  if (minutes < 60) return std::to_string(minutes) + " minutes ago";
-  const std::int64_t hours = minutes / 60;
-  return hours == 1 ? "an hour ago" : std::to_string(hours) + " hours ago";
 }
 
 // What the user is looking for, and how to say it back.

@@ -9,7 +9,10 @@
 // host ("Anna is calling"); "answer" and "decline" come here. "Call for help" asks
 // nothing: the host calls the emergency contacts in order and logs every step; the skill
 // says them. "I don't feel well" offers to call for help; "I'm lonely" / "I feel sad" offers to
-// call someone (the person the answer names, or asks whom).
+// call someone (the person the answer names, or asks whom). "Did anyone call?" reads the
+// calls of the last day from the event log the host keeps ("You missed a call from Anna,
+// 2 hours ago.").
+#include <algorithm>
 #include <cctype>
 #include <marvin/skill.hpp>
 #include <optional>
@@ -19,6 +22,8 @@
 
 namespace {
 
+using marvin::builtin::ago;
+using marvin::builtin::join_and;
 using marvin::builtin::lower;
 
 using nlohmann::json;
@@ -115,6 +120,7 @@ class PhoneSkill : public marvin::Skill {
     if (intent == "answer") return answer();
     if (intent == "decline") return decline();
     if (intent == "emergency") return call_for_help();
+    if (intent == "calls") return calls();
     if (intent == "unwell") return unwell(request.utterance);
     if (intent == "lonely") return lonely();
   }
@@ -133,6 +139,70 @@ class PhoneSkill : public marvin::Skill {
       }
       throw;
     }
+  }
+
+  // The host logs "call_incoming" ("Anna is calling") for every call that rang and
+  // "call_missed" ("You missed a call from Anna.") for those nobody took; each missed call
+  // is paired with the latest call from the same name that rang before it.
+  void calls() {
+    constexpr std::int64_t kDayMs = 24LL * 60 * 60 * 1000;
+    const std::int64_t now = robot().now_ms();
+    json rang, missed;
+    try {
+      rang = robot().events_list("call_incoming", now - kDayMs);
+      missed = robot().events_list("call_missed", now - kDayMs);
+    } catch (const marvin::Error& e) {
+      if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
+      robot().say(std::string("Sorry, I can't tell who called: ") + e.what() + ".");
+      return;
+    }
+    auto by_time = [](const json& a, const json& b) {
+      return a.value("time_unix_ms", std::int64_t{0}) < b.value("time_unix_ms", std::int64_t{0});
+    };
+    std::sort(rang.begin(), rang.end(), by_time);
+    std::sort(missed.begin(), missed.end(), by_time);
+    auto name_in = [](const std::string& message, const std::string& before,
+                      const std::string& after) {
+      std::string m = message;
+      if (m.rfind(before, 0) == 0) m.erase(0, before.size());
+      if (m.size() >= after.size() &&
+          m.compare(m.size() - after.size(), after.size(), after) == 0) {
+        m.erase(m.size() - after.size());
+      }
+      return m;
+    };
+    std::vector<bool> was_missed(rang.size(), false);
+    for (const json& m : missed) {
+      const std::string who = name_in(m.value("message", ""), "You missed a call from ", ".");
+      const std::int64_t at = m.value("time_unix_ms", std::int64_t{0});
+      for (std::size_t i = rang.size(); i-- > 0;) {
+        if (!was_missed[i] && rang[i].value("time_unix_ms", std::int64_t{0}) <= at &&
+            name_in(rang[i].value("message", ""), "", " is calling") == who) {
+          was_missed[i] = true;
+          break;
+        }
+      }
+    }
+    std::vector<std::string> lost, taken;  // "from Anna 2 hours ago", "Anna called just now"
+    for (std::size_t i = 0; i < rang.size(); ++i) {
+      const std::string who = name_in(rang[i].value("message", ""), "", " is calling");
+      const std::string when = ago(now - rang[i].value("time_unix_ms", now));
+      if (was_missed[i])
+        lost.push_back("from " + who + " " + when);
+      else
+        taken.push_back(who + " called " + when);
+    }
+    if (lost.empty() && taken.empty()) {
+      robot().say("Nobody called in the last day.");
+      return;
+    }
+    std::string text;
+    if (lost.size() == 1) text = "You missed a call " + lost[0] + ".";
+    if (lost.size() > 1) {
+      text = "You missed " + std::to_string(lost.size()) + " calls: " + join_and(lost) + ".";
+    }
+    if (!taken.empty()) text += std::string(text.empty() ? "" : " ") + join_and(taken) + ".";
+    robot().say(text);
   }
 
   // True when `who` is someone or a number the phone could call ("I'm fine" is not).

@@ -137,6 +137,32 @@ TEST_CASE("call for help: no question, the emergency contacts in order, each ste
   CHECK(h.say("emergency").back() == "Nobody answered the emergency call.");
 }
 
+TEST_CASE("did anyone call: the last day's calls from the event log, missed ones first") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  auto& r = h.robot();
+  constexpr std::int64_t kHour = 60 * 60 * 1000;
+  const std::int64_t t0 = 1767600000000;  // 2026-01-05T08:00Z
+  r.set_now(t0);
+  CHECK(h.intent_of("did anyone call") == "phone/calls");
+  CHECK(h.say("did anyone call") == Lines{"Nobody called in the last day."});
+  r.add_event("call_incoming", "Doctor Brown is calling");  // more than a day before the question
+  r.add_event("call_missed", "You missed a call from Doctor Brown.");
+  r.set_now(t0 + 30 * kHour);
+  r.add_event("call_incoming", "Anna Schmidt is calling");
+  r.add_event("call_missed", "You missed a call from Anna Schmidt.");
+  r.set_now(t0 + 32 * kHour);
+  r.add_event("call_incoming", "Tom Schmidt is calling");  // taken: no call_missed after it
+  r.set_now(t0 + 32 * kHour + 10 * 60 * 1000);
+  CHECK(
+      h.say("who called me") ==
+      Lines{"You missed a call from Anna Schmidt 2 hours ago. Tom Schmidt called 10 minutes ago."});
+  CHECK(
+      h.say("did I miss any calls") ==
+      Lines{"You missed a call from Anna Schmidt 2 hours ago. Tom Schmidt called 10 minutes ago."});
+  CHECK(dialled(h).empty());
+}
+
 TEST_CASE("I don't feel well: asks before calling for help; good news is only answered") {
   marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
   contacts(h);

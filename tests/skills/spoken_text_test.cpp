@@ -17,3 +17,11 @@ TEST_CASE("spoken text: names are written as names, lists are said with \"and\""
   CHECK(builtin::join_and({"Anna", "Ben"}) == "Anna and Ben");
   CHECK(builtin::join_and({"Anna", "Ben", "Carl"}) == "Anna, Ben and Carl");
 }
+
+TEST_CASE("spoken text: how long ago, in the unit a person would say") {
+  CHECK(builtin::ago(59'999) == "just now");
+  CHECK(builtin::ago(60'000) == "a minute ago");
+  CHECK(builtin::ago(20 * 60'000) == "20 minutes ago");
+  CHECK(builtin::ago(60 * 60'000) == "an hour ago");
+  CHECK(builtin::ago(5 * 60 * 60'000 + 59 * 60'000) == "5 hours ago");
+}
