@@ -18,6 +18,18 @@ TEST_CASE("hello, thank you and goodbye each get their own answer") {
   CHECK(harness.say("good night marvin") == Lines{"Good night. Sleep well."});
 }
 
+TEST_CASE("good morning is answered with the greeting of the owner's time of day") {
+  marvin::testing::SkillHarness harness(HELLO_SKILL_DIR);
+  harness.robot().set_time_zone("Europe/Berlin");
+  harness.robot().set_now(1795269900000);  // 2026-11-21T14:05Z: 3:05 PM in Berlin
+  CHECK(harness.say("good morning marvin") == Lines{"Good afternoon! What can I do for you?"});
+  harness.robot().set_time_zone("America/New_York");  // 9:05 AM
+  CHECK(harness.say("good evening") == Lines{"Good morning! What can I do for you?"});
+  harness.robot().set_time_zone("Asia/Tokyo");  // 11:05 PM
+  CHECK(harness.say("good afternoon") == Lines{"Good evening! What can I do for you?"});
+  CHECK(harness.say("hello") == Lines{"Hello! What can I do for you?"});
+}
+
 TEST_CASE("what can you do: the introduction names every built-in capability") {
   marvin::testing::SkillHarness harness(HELLO_SKILL_DIR);
   const Lines answer = harness.say("what can you do");
