@@ -43,9 +43,9 @@ constexpr std::array<std::string_view, 8> kClauseStarts{"it",  "i",  "you",  "he
 // First words of a question or clause, never of a name: "where is {what}" tolerantly fits
 // "where does cannabis come from" with "does cannabis", and "where have you been" with
 // "have you been".
-constexpr std::array<std::string_view, 20> kQuestionStarts{
-    "do",    "does", "did",  "why", "how", "whether", "can", "could", "should", "would",
-    "shall", "must", "have", "has", "had", "is",      "are", "was",   "were",   "will"};
+constexpr std::array<std::string_view, 21> kQuestionStarts{
+    "do",   "does", "did", "why", "how", "whether", "can", "could", "should", "would", "shall",
+    "must", "have", "has", "had", "is",  "are",     "was", "were",  "will",   "am"};
 
 // Short names of household devices that WordNet files only under other senses ("ac":
 // actinium, alternating current).

@@ -93,6 +93,10 @@ TEST_CASE("tell Anna dinner is ready: goes to her and says it; nobody called Bob
 TEST_CASE("where are my keys: search, report, lead the way; never seen and never taught") {
   marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
   home(h);
+  for (const char* lost : {"I lost my keys", "I've misplaced my keys", "I can't find my keys"}) {
+    CAPTURE(lost);
+    CHECK(h.intent_of(lost) == "finding/where_is");
+  }
   h.robot().set_room_view("bedroom", kKeys);
   // Seen while looking for people in the bedroom: every look records what it saw.
   CHECK(h.say("is anyone in the bedroom") == Lines{"No, I don't see anyone in the bedroom."});

@@ -1,5 +1,5 @@
-// Built-in skill "navigation": "go to the kitchen", "come here", "where are you", through
-// the Robot API's going-places calls (API 1.2). "stop" is the manager's: it cancels the
+// Built-in skill "navigation": "go to the kitchen", "come here", "where are you", "where am I",
+// through the Robot API's going-places calls (API 1.2). "stop" is the manager's: it cancels the
 // running go_to, which stops the wheels before it returns.
 #include <cctype>
 #include <marvin/skill.hpp>
@@ -29,6 +29,8 @@ class NavigationSkill : public marvin::Skill {
     if (request.intent == "where") {
       std::optional<std::string> room = robot().where_am_i();
       robot().say(room ? "I'm in the " + *room + "." : "I'm in a doorway, between two rooms.");
+    } else if (request.intent == "where_am_i") {
+      where_is_user();
     } else if (request.intent == "come_here") {
       go("me", "I'm here.");
     } else if (request.intent == "go_to") {
@@ -40,6 +42,20 @@ class NavigationSkill : public marvin::Skill {
   }
 
  private:
+  // "where am I": the room the map places the user in ("me", as "come here" uses it).
+  // Someone who cannot see, or who has just woken, may not know.
+  void where_is_user() {
+    std::optional<nlohmann::json> me;
+    try {
+      me = robot().place_find("me");
+    } catch (const marvin::Error&) {
+      // An older host or no map: the same as not knowing.
+    }
+    const std::string room = me ? me->value("room", "") : "";
+    robot().say(room.empty() ? "Sorry, I don't know where you are."
+                             : "You're in the " + room + ".");
+  }
+
   // How to say a place: "you", "Anna" (a person: as the map spells the name, no "the"),
   // "the kitchen". Hosts before API 1.3 cannot tell people apart: "the" then.
   std::string shown_name(const std::string& place) {

@@ -39,6 +39,17 @@ TEST_CASE("a place in a room, come here, and places the robot does not know") {
 TEST_CASE("come here without knowing where the user is") {
   SkillHarness h(NAVIGATION_SKILL_DIR);
   CHECK(h.say("come here").back() == "Sorry, I don't know where you are.");
+  CHECK(h.say("where am i") == std::vector<std::string>{"Sorry, I don't know where you are."});
+}
+
+TEST_CASE("where am I: the room the map places the user in, not the robot's") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  h.robot().add_place("me", "bedroom");
+  h.robot().set_room("hall");
+  CHECK(h.intent_of("where am I") == "navigation/where_am_i");
+  CHECK(h.say("where am I") == std::vector<std::string>{"You're in the bedroom."});
+  CHECK(h.say("which room am I in") == std::vector<std::string>{"You're in the bedroom."});
+  CHECK(h.say("where are you") == std::vector<std::string>{"I'm in the hall."});
 }
 
 TEST_CASE("a blocked way is explained") {
