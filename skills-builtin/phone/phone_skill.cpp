@@ -10,8 +10,8 @@
 // nothing: the host calls the emergency contacts in order and logs every step; the skill
 // says them. "I don't feel well" offers to call for help; "I'm lonely" / "I feel sad" offers to
 // call someone (the person the answer names, or asks whom). "Did anyone call?" reads the
-// calls of the last day from the event log the host keeps ("You missed a call from Anna,
-// 2 hours ago.").
+// calls of the last day from the event log the host keeps ("You missed a call from Anna 2
+// hours ago.").
 #include <algorithm>
 #include <cctype>
 #include <marvin/skill.hpp>

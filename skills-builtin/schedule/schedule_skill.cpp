@@ -427,11 +427,15 @@ class ScheduleSkill : public marvin::Skill {
     std::vector<std::string> wanted;
     for (std::string w : words_of(lower(task))) {
       if (w.size() > 2 && w.compare(w.size() - 2, 2, "'s") == 0) w.resize(w.size() - 2);
-      if (w == "the" || w == "my" || w == "a" || w == "an" || w == "to" ||
-          std::any_of(generic.begin(), generic.end(), [&](const char* g) { return w == g; })) {
-        continue;
-      }
+      auto says_nothing = [&](const std::string& word) {
+        return word == "the" || word == "my" || word == "a" || word == "an" || word == "to" ||
+               std::any_of(generic.begin(), generic.end(),
+                           [&](const char* g) { return word == g; });
+      };
+      if (says_nothing(w)) continue;
       if (w.size() > 3 && w.back() == 's') w.pop_back();  // "pills" finds "pill" and back
+      if (says_nothing(w)) continue;                      // "reminders"
+      if (w == "alarm") w = "wake";  // an alarm is stored as kAlarmTitle, "time to wake up"
       wanted.push_back(w);
     }
     return wanted;
@@ -473,7 +477,7 @@ class ScheduleSkill : public marvin::Skill {
   void cancel(const std::string& task) {
     // "all my", "all of them", "every": every reminder, after a question.
     const std::vector<std::string> wanted =
-        wanted_words(task, {"reminder", "all", "every", "of", "them", "alarm", "alarms"});
+        wanted_words(task, {"reminder", "all", "every", "of", "them"});
     const std::vector<std::string> said = words_of(lower(task));
     const bool all = std::find(said.begin(), said.end(), "all") != said.end() ||
                      std::find(said.begin(), said.end(), "every") != said.end();
@@ -514,8 +518,11 @@ class ScheduleSkill : public marvin::Skill {
       }
     }
     for (const json& r : hits) robot().schedule_remove(r.at("id").get<std::int64_t>());
-    robot().say(hits.size() == 1
-                    ? "OK, I cancelled the reminder to " + second_person(hits[0].value("title", "")) + "."
+    robot().say(hits.size() == 1 && hits[0].value("title", "") == kAlarmTitle
+                    ? std::string("OK, I cancelled the alarm.")
+                : hits.size() == 1
+                    ? "OK, I cancelled the reminder to " +
+                          second_person(hits[0].value("title", "")) + "."
                     : "OK, I cancelled all " + std::to_string(hits.size()) + " reminders.");
   }
 

@@ -53,6 +53,12 @@ TEST_CASE("an alarm needs no task: wake me at 6 is 6 in the morning, and stored"
   CHECK(stored[1]["recurrence"]["kind"] == "daily");
   CHECK(stored[1]["at"] == "2026-01-06T07:00");  // 7 today has passed
   CHECK(stored[2]["at"] == "2026-01-07T06:30");
+  // Alarms are "time to wake up" when stored; "cancel my alarms" finds them all.
+  CHECK(h.say("cancel my alarms", {"yes"}).back() == "OK, I cancelled all 3 reminders.");
+  CHECK(reminders(h).empty());
+  h.say("wake me up at 6");
+  CHECK(h.say("cancel my alarm") == Lines{"OK, I cancelled the alarm."});
+  CHECK(reminders(h).empty());
 }
 
 TEST_CASE("a reminder said without its task: the skill asks for it; no answer, nothing stored") {
