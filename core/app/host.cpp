@@ -209,7 +209,9 @@ Host::Host(HostOptions options, std::function<void(std::string_view)> write_line
   }
   data::PersonalData* inner = nullptr;
   if (options_.in_memory_data) {
-    memory_ = std::make_unique<skills::InMemoryPersonalData>();
+    // Stamped by the host's clock, set below before anything can log.
+    memory_ = std::make_unique<skills::InMemoryPersonalData>(
+        [this] { return services_.now_ms ? services_.now_ms() : skills::system_now_ms(); });
     inner = memory_.get();
   } else {
     data::StoreOptions store;
@@ -358,6 +360,15 @@ void Host::wire_finding() {
     };
   } else {
     sightings_ = std::make_unique<skills::InMemorySightingLog>(services_.now_ms);
+    if (memory_) {
+      services_.events = [memory = memory_.get()](std::string_view kind, std::int64_t since) {
+        std::vector<skills::HostServices::LoggedEvent> out;
+        for (const auto& e : memory->recent_events(kind, since)) {
+          out.push_back({e.kind, e.message, e.time_ms});
+        }
+        return out;
+      };
+    }
   }
   services_.sightings = sightings_.get();
   if (!eyes_) return;

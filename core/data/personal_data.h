@@ -83,7 +83,9 @@ class PersonalData {
   virtual bool snooze_reminder(std::int64_t id, std::int64_t until_utc_ms);
   // "I took them": a one-off reminder becomes done and will not fire again; a recurring one
   // keeps its series (the occurrence that fired is acknowledged in the event log; cancel
-  // the series with remove_reminder). False if there is no active reminder with that id.
+  // the series with remove_reminder). A reminder already done (a one-off that fired) is
+  // acknowledged in the log again, unchanged. False if there is no active or done reminder
+  // with that id.
   // The default implementation throws.
   virtual bool complete_reminder(std::int64_t id);
 

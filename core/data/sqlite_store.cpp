@@ -326,12 +326,16 @@ bool SqliteStore::snooze_reminder(std::int64_t id, std::int64_t until_utc_ms) {
 bool SqliteStore::complete_reminder(std::int64_t id) {
   std::lock_guard lock(mutex_);
   Transaction tx(db_, path_text_);
-  Statement get(db_, path_text_, "SELECT recurrence_kind, title FROM reminders WHERE id = ? AND state = 0");
+  // A reminder that already fired and retired (state 1) is acknowledged too: "I took them"
+  // after a one-off pill reminder belongs in the log as much as after a daily one.
+  Statement get(db_, path_text_,
+                "SELECT recurrence_kind, title, state FROM reminders "
+                "WHERE id = ? AND state IN (0, 1)");
   get.bind(1, id);
   if (!get.step()) return false;
   const bool once = get.int64(0) == static_cast<int>(Recurrence::Kind::kOnce);
   const std::string title = get.text(1);
-  if (once) {
+  if (once && get.int64(2) == 0) {
     Statement s(db_, path_text_, "UPDATE reminders SET state = 1 WHERE id = ?");
     s.bind(1, id).run();
   }

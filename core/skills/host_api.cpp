@@ -306,7 +306,7 @@ marvin_status api_schedule_done(marvin_host* host, int64_t reminder_id) {
     MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
     if (!c.services().data->complete_reminder(reminder_id)) {
       return fail(c, MARVIN_ERR_NOT_FOUND,
-                  "there is no active reminder with id " + std::to_string(reminder_id));
+                  "there is no active or done reminder with id " + std::to_string(reminder_id));
     }
     return MARVIN_OK;
   });

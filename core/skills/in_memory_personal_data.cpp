@@ -77,12 +77,13 @@ bool InMemoryPersonalData::snooze_reminder(std::int64_t id, std::int64_t until_u
 bool InMemoryPersonalData::complete_reminder(std::int64_t id) {
   std::lock_guard lock(mutex_);
   auto it = reminders_.find(id);
-  if (it == reminders_.end() || it->second.state != data::Reminder::State::kActive) return false;
+  if (it == reminders_.end() || it->second.state == data::Reminder::State::kCancelled) return false;
   if (it->second.recurrence.kind == data::Recurrence::Kind::kOnce) {
     it->second.state = data::Reminder::State::kDone;
   }
   events_.push_back(Event{"reminder_done", "scheduler",
-                          "reminder " + std::to_string(id) + " '" + it->second.title + "' done"});
+                          "reminder " + std::to_string(id) + " '" + it->second.title + "' done",
+                          now()});
   return true;
 }
 
@@ -159,12 +160,22 @@ bool InMemoryPersonalData::storage_remove(std::string_view skill_id, std::string
 void InMemoryPersonalData::log_event(std::string_view kind, std::string_view source,
                                      std::string_view message) {
   std::lock_guard lock(mutex_);
-  events_.push_back(Event{std::string(kind), std::string(source), std::string(message)});
+  events_.push_back(Event{std::string(kind), std::string(source), std::string(message), now()});
 }
 
 std::vector<InMemoryPersonalData::Event> InMemoryPersonalData::events() {
   std::lock_guard lock(mutex_);
   return events_;
+}
+
+std::vector<InMemoryPersonalData::Event> InMemoryPersonalData::recent_events(
+    std::string_view kind, std::int64_t since_ms) {
+  std::lock_guard lock(mutex_);
+  std::vector<Event> out;
+  for (auto it = events_.rbegin(); it != events_.rend(); ++it) {
+    if (it->time_ms >= since_ms && (kind.empty() || it->kind == kind)) out.push_back(*it);
+  }
+  return out;
 }
 
 }  // namespace marvin::skills

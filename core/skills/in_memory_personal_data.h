@@ -2,6 +2,8 @@
 // --in-memory`. Nothing survives the process. Thread-safe.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <string>
@@ -14,6 +16,11 @@ namespace marvin::skills {
 
 class InMemoryPersonalData : public data::PersonalData {
  public:
+  // `now_ms` stamps the event log (the host's clock, so that "since this morning" means the
+  // same as with the SQLite store); without one, events are stamped 0.
+  explicit InMemoryPersonalData(std::function<std::int64_t()> now_ms = {})
+      : now_ms_(std::move(now_ms)) {}
+
   std::int64_t add_reminder(const data::Reminder& reminder) override;
   std::vector<data::Reminder> reminders_between(std::int64_t from_utc_ms,
                                                 std::int64_t to_utc_ms) override;
@@ -41,10 +48,17 @@ class InMemoryPersonalData : public data::PersonalData {
 
   struct Event {
     std::string kind, source, message;
+    std::int64_t time_ms = 0;
   };
+  // Oldest first.
   std::vector<Event> events();
+  // Newest first, of `kind` ("" for all), at or after `since_ms`: what events_list answers.
+  std::vector<Event> recent_events(std::string_view kind, std::int64_t since_ms);
 
  private:
+  std::int64_t now() const { return now_ms_ ? now_ms_() : 0; }
+
+  std::function<std::int64_t()> now_ms_;
   std::mutex mutex_;
   std::int64_t next_id_ = 1;
   std::map<std::int64_t, data::Reminder> reminders_;

@@ -29,11 +29,18 @@ MockRobot::Impl::Impl(std::string id, std::vector<std::string> permissions)
                                           [](const std::string&, const std::string&) {},
                                           guard_options);
   services.guard = guard.get();
+  // The log holds what a test adds (add_event) and what the skill's own calls write to
+  // the store ("I took them"), newest first as the host's.
   services.events = [this](std::string_view kind, std::int64_t since) {
     std::vector<skills::HostServices::LoggedEvent> out;
     for (auto it = events.rbegin(); it != events.rend(); ++it) {
       if (it->time_ms >= since && (kind.empty() || it->kind == kind)) out.push_back(*it);
     }
+    for (const auto& e : data.recent_events(kind, since)) {
+      out.push_back({e.kind, e.message, e.time_ms});
+    }
+    std::stable_sort(out.begin(), out.end(),
+                     [](const auto& a, const auto& b) { return a.time_ms > b.time_ms; });
     return out;
   };
   phone.actions = &actions;

@@ -82,7 +82,7 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   void know_person(const std::string& name);
   void know_faces_in(const std::string& seen_json);
 
-  skills::InMemoryPersonalData data;
+  skills::InMemoryPersonalData data{[this] { return now_ms; }};  // the log on the mock's clock
   skills::ScriptedEyes eyes{[this](std::string action) {
     if (action.rfind("enroll_face ", 0) == 0) {
       know_person(action.substr(12, action.rfind(" frames=") - 12));

@@ -10,6 +10,8 @@
 //   "snooze" / "remind me again in 20 minutes" -> the reminder that fired last fires again
 //                                                 then (10 minutes when no time is said)
 //   "done" / "I took them"                     -> marks the reminder that fired last done
+//   "did I take my pills?"                     -> from the event log: what was marked done
+//                                                 today, and when
 // Every acknowledgement is spoken only after the Robot API call returned, and the host
 // returns from schedule_add / contacts_add / schedule_remove only once the change is
 // committed durably (core/data): "OK" always means stored.
@@ -167,7 +169,8 @@ class ScheduleSkill : public marvin::Skill {
     if (request.intent == "when_is") return when_is(request.slots.at("task").get<std::string>());
     if (request.intent == "cancel") return cancel(request.slots.at("task").get<std::string>());
     if (request.intent == "snooze") return snooze(request);
-    if (request.intent == "done") return done();
+    if (request.intent == "done") return done(request.utterance);
+    if (request.intent == "was_done") return was_done(request);
     if (request.intent == "add_contact") return add_contact(request);
     if (request.intent == "contact_number") return contact_number(request.slots.at("name").get<std::string>());
     if (request.intent == "add_event") return remind(request, true);
@@ -447,14 +450,29 @@ class ScheduleSkill : public marvin::Skill {
     std::vector<json> hits;
     for (const json& r : robot().schedule_list(0, std::numeric_limits<std::int64_t>::max())) {
       const std::string title = lower(r.value("title", ""));
-      if (wanted.empty() ? all_when_empty && title != kTimerTitle
-                         : std::all_of(wanted.begin(), wanted.end(), [&](const std::string& w) {
-                             return title.find(w) != std::string::npos;
-                           })) {
+      if (wanted.empty() ? all_when_empty && title != kTimerTitle : has_all(title, wanted)) {
         hits.push_back(r);
       }
     }
     return hits;
+  }
+
+  // Whether `title` holds every wanted word. People name the same pills many ways ("my
+  // tablets", "my medicine"), so a word for medicine finds a title with any of them.
+  static bool has_all(const std::string& title, const std::vector<std::string>& wanted) {
+    static constexpr const char* kMedicine[] = {"pill", "tablet", "medicine", "medication",
+                                                "med", "capsule", "drug", "dose"};
+    auto is_medicine = [](std::string w) {
+      while (!w.empty() && !std::isalpha(static_cast<unsigned char>(w.back()))) w.pop_back();
+      if (w.size() > 3 && w.back() == 's') w.pop_back();
+      return std::any_of(std::begin(kMedicine), std::end(kMedicine),
+                         [&](const char* m) { return w == m; });
+    };
+    const std::vector<std::string> title_words = words_of(title);
+    const bool about_medicine = std::any_of(title_words.begin(), title_words.end(), is_medicine);
+    return std::all_of(wanted.begin(), wanted.end(), [&](const std::string& w) {
+      return is_medicine(w) ? about_medicine : title.find(w) != std::string::npos;
+    });
   }
 
   // "when is my dentist appointment" -> the soonest that matches; "my next appointment" ->
@@ -567,21 +585,82 @@ class ScheduleSkill : public marvin::Skill {
     robot().say("OK, I'll remind you again " + when + ".");
   }
 
-  void done() {
-    const std::optional<json> fired = last_fired();
+  void done(const std::string& utterance) {
+    std::optional<json> fired = last_fired();
+    // "I took my pills" with no reminder announced (Marvin was off, or the pills came
+    // first): the soonest medicine reminder, so that the log knows.
+    if (!fired && has_all(lower(utterance), {"pill"})) {
+      const std::vector<json> medicine = matching({"pill"}, false);
+      if (!medicine.empty()) fired = medicine.front();
+    }
     if (!fired) {
       robot().say("There is no reminder to mark as done.");
       return;
     }
     const std::string title = fired->value("title", "");
     // A one-off reminder is already retired (state "done") by the scheduler once it has
-    // fired, so "I took them" right after it is the normal case: acknowledge it, and only
-    // write when there is something to change.
-    if (fired->value("state", "active") != "done") {
-      // Returns once the change is durably stored; only then do we say so.
-      robot().schedule_done(fired->at("id").get<std::int64_t>());
-    }
+    // fired, so "I took them" right after it is the normal case. It is acknowledged all
+    // the same, so that every "I took them" is in the owner's event log, where "did I take
+    // my pills?" and the carer's page find it. Returns once the change is durably stored;
+    // only then do we say so.
+    robot().schedule_done(fired->at("id").get<std::int64_t>());
     robot().say("Well done, I've marked '" + title + "' as done.");
+  }
+
+  // "did I take my pills?", "have I done my exercises today?", "did I forget my tablets?":
+  // the reminders marked done today (the "reminder_done" events the store writes for
+  // schedule_done), by the words of the task; without one, when the next reminder is.
+  void was_done(const marvin::Request& request) {
+    const std::string task = request.slots.value("task", "");
+    std::vector<std::string> wanted = wanted_words(
+        task, {"them", "it", "that", "today", "yet", "already", "this", "morning", "evening",
+               "tonight", "reminder", "your"});
+    // "have I watered the plants" finds "water the plants".
+    for (std::string& w : wanted) {
+      if (w.size() > 5 && w.compare(w.size() - 2, 2, "ed") == 0) w.resize(w.size() - 2);
+    }
+    std::vector<std::string> said = words_of(lower(request.utterance));
+    const bool forgot = std::any_of(said.begin(), said.end(), [](const std::string& w) {
+      return w == "forget" || w == "forgot" || w == "forgotten";
+    });
+    const date::time_zone* zone = date::locate_zone(robot().time_zone());
+    const auto midnight = zone->to_sys(today(), date::choose::earliest);
+    const std::int64_t since =
+        std::chrono::duration_cast<std::chrono::milliseconds>(midnight.time_since_epoch()).count();
+    std::string title;
+    std::vector<std::string> times;  // oldest first
+    for (const json& e : robot().events_list("reminder_done", since)) {  // newest first
+      const std::string message = e.value("message", "");
+      const std::size_t open = message.find('\''), close = message.rfind('\'');
+      if (open == std::string::npos || close <= open) continue;
+      const std::string done_title = message.substr(open + 1, close - open - 1);
+      if (!has_all(lower(done_title), wanted)) continue;
+      if (title.empty()) title = done_title;
+      if (done_title != title) continue;  // the latest one's, said once
+      const auto local = zone->to_local(date::sys_time<std::chrono::milliseconds>{
+          std::chrono::milliseconds{e.value("time_unix_ms", std::int64_t{0})}});
+      const auto minutes = std::chrono::duration_cast<std::chrono::minutes>(
+          local - date::floor<date::days>(local));
+      times.insert(times.begin(), "at " + spoken_time(static_cast<int>(minutes.count())));
+    }
+    if (!times.empty()) {
+      robot().say(std::string(forgot ? "No, you" : "Yes, you") + " marked '" + title +
+                  "' as done today " + join_and(times) + ".");
+      return;
+    }
+    const std::string not_told = wanted.empty()
+                                     ? "You haven't marked anything as done today."
+                                     : "You haven't told me today that you did.";
+    const std::vector<json> coming = matching(wanted, false);
+    if (wanted.empty() || coming.empty()) {
+      robot().say(not_told + " When a reminder has been done, tell me \"done\", and I'll keep "
+                             "track.");
+      return;
+    }
+    const LocalTime at = parse_local(coming[0].at("at").get<std::string>());
+    robot().say(not_told + " Your next reminder to " + second_person(coming[0].value("title", "")) +
+                " is " + spoken_day(at.day, today()) + " at " + spoken_time(at.minute_of_day) +
+                ".");
   }
 
   void add_contact(const marvin::Request& request) {

@@ -237,6 +237,64 @@ TEST_CASE("done: the reminder that fired is marked done and does not fire again"
   CHECK(json::parse(*h.robot().reminder(id))["state"] == "active");
 }
 
+TEST_CASE("did I take my pills: what was marked done today, by the task's words, and when") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  h.robot().set_now(1767639600000);  // 2026-01-05T19:00Z, 8 PM in Berlin: it fired
+  const std::int64_t pills = h.robot().add_reminder("take my pills", "2026-01-05T20:00");
+  h.robot().add_reminder("do my exercises", "2026-01-06T10:00");
+  CHECK(h.intent_of("did I take my pills") == "schedule/was_done");
+  CHECK(h.intent_of("have I taken my tablets today") == "schedule/was_done");
+  CHECK(h.intent_of("did I forget my pills") == "schedule/was_done");
+  CHECK(h.say("did I take my pills?") ==
+        Lines{"You haven't told me today that you did. Your next reminder to take your pills "
+              "is today at 8 PM."});
+  h.robot().set_last_fired(pills);
+  h.robot().set_now(1767639600000 + 5 * 60 * 1000);  // 8:05 PM
+  CHECK(h.say("I took them") == Lines{"Well done, I've marked 'take my pills' as done."});
+  // Any word for medicine finds the pills; "forget" turns the answer round.
+  CHECK(h.say("have I taken my tablets today?") ==
+        Lines{"Yes, you marked 'take my pills' as done today at 8:05 PM."});
+  CHECK(h.say("did I forget my medicine?") ==
+        Lines{"No, you marked 'take my pills' as done today at 8:05 PM."});
+  CHECK(h.say("did I do my exercises?") ==
+        Lines{"You haven't told me today that you did. Your next reminder to do your "
+              "exercises is tomorrow at 10 AM."});
+  CHECK(h.say("did I water the plants?") ==
+        Lines{"You haven't told me today that you did. When a reminder has been done, tell me "
+              "\"done\", and I'll keep track."});
+  // Told again later the same evening (the one-off is done already): both times are said.
+  h.robot().set_now(1767639600000 + 70 * 60 * 1000);  // 9:10 PM
+  CHECK(h.say("done") == Lines{"Well done, I've marked 'take my pills' as done."});
+  CHECK(h.say("did I take them?") ==
+        Lines{"Yes, you marked 'take my pills' as done today at 8:05 PM and at 9:10 PM."});
+  // The next day it is a new day: nothing done yet.
+  h.robot().set_now(1767639600000 + 24 * 3'600'000);
+  CHECK(h.say("did I take my pills") ==
+        Lines{"You haven't told me today that you did. When a reminder has been done, tell me "
+              "\"done\", and I'll keep track."});
+  CHECK(h.say("did I take them") ==
+        Lines{"You haven't marked anything as done today. When a reminder has been done, tell "
+              "me \"done\", and I'll keep track."});
+}
+
+TEST_CASE("I took my pills with no reminder announced: the medicine reminder, in the log") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  h.say("remind me to water the plants at 6 pm");
+  h.say("remind me every day at 8 pm to take my tablets");
+  CHECK(h.say("I took my pills.") == Lines{"Well done, I've marked 'take my tablets' as done."});
+  const auto stored = reminders(h);
+  REQUIRE(stored.size() == 2);  // a daily reminder keeps its series
+  REQUIRE_FALSE(h.robot().logged_events().empty());
+  CHECK(h.robot().logged_events().back().find("reminder_done: ") == 0);
+  CHECK(h.robot().logged_events().back().find("'take my tablets' done") != std::string::npos);
+  CHECK(h.say("have I had my medication?") ==
+        Lines{"Yes, you marked 'take my tablets' as done today at 10 AM."});
+  // Without a word for medicine nothing is guessed.
+  CHECK(h.say("I did it") == Lines{"There is no reminder to mark as done."});
+}
+
 TEST_CASE("snooze and done with nothing fired, or with the reminder cancelled since") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   berlin(h);
@@ -283,7 +341,13 @@ TEST_CASE("snooze and done without the schedule permission: refused, nothing sai
   CHECK(json::parse(buffer)["id"] == id);
   CHECK(robot.api()->schedule_snooze(robot.host(), 999, 1767700000000) == MARVIN_ERR_NOT_FOUND);
   CHECK(robot.api()->schedule_done(robot.host(), id) == MARVIN_OK);
-  CHECK(robot.api()->schedule_done(robot.host(), id) == MARVIN_ERR_NOT_FOUND);
+  CHECK(robot.api()->schedule_done(robot.host(), id) == MARVIN_OK);  // done: acknowledged again
+  CHECK(robot.logged_events().size() == 2);
+  CHECK(robot.api()->schedule_done(robot.host(), 999) == MARVIN_ERR_NOT_FOUND);
+  const std::int64_t cancelled = robot.add_reminder("water the plants", "2026-01-05T21:00");
+  CHECK(robot.api()->schedule_remove(robot.host(), cancelled) == MARVIN_OK);
+  CHECK(robot.api()->schedule_done(robot.host(), cancelled) == MARVIN_ERR_NOT_FOUND);
+  CHECK(robot.logged_events().size() == 2);
   d->destroy(instance);
   dlclose(library);
 }

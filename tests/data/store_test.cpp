@@ -232,8 +232,12 @@ TEST_CASE("reminders: add, list by window, cancel, snooze, complete") {
   CHECK(store.get_reminder(daily_id)->next_fire_utc_ms == day + 10 * 3'600'000);
   CHECK(store.complete_reminder(id));
   CHECK(store.get_reminder(id)->state == Reminder::State::kDone);
-  CHECK_FALSE(store.complete_reminder(id));
   CHECK(store.recent_events(1).at(0).kind == "reminder_done");
+  // Done already (as a one-off is once it fired): acknowledged in the log again, unchanged.
+  const std::size_t events_before = store.recent_events(100).size();
+  CHECK(store.complete_reminder(id));
+  CHECK(store.get_reminder(id)->state == Reminder::State::kDone);
+  CHECK(store.recent_events(100).size() == events_before + 1);
   CHECK(store.recent_events(1).at(0).time_utc_ms == 1'000);
   CHECK(store.complete_reminder(daily_id));  // recurring: acknowledged, series goes on
   CHECK(store.get_reminder(daily_id)->state == Reminder::State::kActive);
@@ -243,6 +247,10 @@ TEST_CASE("reminders: add, list by window, cancel, snooze, complete") {
   CHECK(store.get_reminder(daily_id)->state == Reminder::State::kCancelled);
   CHECK(store.list_reminders().empty());
   CHECK_FALSE(store.snooze_reminder(daily_id, 5));  // cancelled stays cancelled
+  const std::size_t events_now = store.recent_events(100).size();
+  CHECK_FALSE(store.complete_reminder(daily_id));   // nor is it acknowledged
+  CHECK_FALSE(store.complete_reminder(daily_id + 1000));
+  CHECK(store.recent_events(100).size() == events_now);
 }
 
 TEST_CASE("bad reminders and contacts are refused with the field named, nothing stored") {

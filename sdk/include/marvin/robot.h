@@ -181,7 +181,9 @@ typedef struct marvin_robot_api {
    * reminder with that id; MARVIN_ERR_INVALID if `until_unix_ms` is not in the future. */
   marvin_status (*schedule_snooze)(marvin_host* host, int64_t reminder_id, int64_t until_unix_ms);
   /* "I took them": a one-off reminder becomes done and will not fire again; a recurring
-   * one keeps its series. MARVIN_ERR_NOT_FOUND if there is no active reminder with that id. */
+   * one keeps its series. Either way the owner's event log gets a "reminder_done" event,
+   * also for a one-off that is already done (it fired). MARVIN_ERR_NOT_FOUND if there is
+   * no active or done reminder with that id (never was, or cancelled). */
   marvin_status (*schedule_done)(marvin_host* host, int64_t reminder_id);
   /* The reminder the robot announced most recently ("Reminder: take my pills"), as the
    * JSON of one reminder (the format of schedule_list's elements, with its current
@@ -285,9 +287,9 @@ typedef struct marvin_robot_api {
    * someone I know"). -1: only report. Writes {"on": true, "since_unix_ms": ...,
    * "alerts": 1, "by": "Anna" (who turned it off)}. Permission "camera". */
   marvin_status (*guard)(marvin_host* host, int32_t mode, marvin_text_out* state_json);
-  /* Events from the owner's event log, newest first, of `kind` ("intruder"; "" for all)
-   * at or after `since_unix_ms`: [{"kind", "message", "time_unix_ms"}]. Permission
-   * "events". */
+  /* Events from the owner's event log, newest first, of `kind` ("intruder",
+   * "reminder_done"; "" for all) at or after `since_unix_ms`: [{"kind", "message",
+   * "time_unix_ms"}]. Permission "events". */
   marvin_status (*events_list)(marvin_host* host, const char* kind, int64_t since_unix_ms,
                                marvin_text_out* events_json);
   /* --- since API 1.3: phone calls -------------------------------------------------
