@@ -395,8 +395,11 @@ constexpr float kAcceptWithTemplate = 0.12F;  // when a template parses at a low
 constexpr float kNoneRatioWithTemplate = 0.25F;
 // The same for an intent with templates only (no examples): the model knows it only through
 // its template expansions, so its probability stays lower and moves with every other skill's
-// examples; its template fit is most of its evidence.
+// examples; its template fit is most of its evidence. (At 0.12 like the others, "do you know
+// where my keys are" for where-is's "where (is|are) my {item}" came and went at about 0.12
+// as other skills added templates; the development set reads the same at 0.1 and 0.12.)
 constexpr float kNoneRatioTemplateOnly = 0.2F;
+constexpr float kAcceptTemplateOnly = 0.1F;
 constexpr float kLowTemplateCost = 1.5F;
 constexpr float kAskEach = 0.2F;
 constexpr float kAskTogether = 0.5F;
@@ -874,12 +877,13 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   const bool low_cost = parses[0] && parses[0]->cost <= kLowTemplateCost &&
                         (parses[0]->cost == 0 || parses[0]->literal_words >= 2);
   const bool close_call = p2 >= kAskEach && p2 >= kCloseCall * p1 && !low_cost;
-  const float none_ratio_with_template = impl.intents[order[0]].spec.examples.empty()
-                                             ? kNoneRatioTemplateOnly
-                                             : kNoneRatioWithTemplate;
+  const bool template_only = impl.intents[order[0]].spec.examples.empty();
+  const float none_ratio_with_template =
+      template_only ? kNoneRatioTemplateOnly : kNoneRatioWithTemplate;
+  const float accept_with_template = template_only ? kAcceptTemplateOnly : kAcceptWithTemplate;
   if (!close_call &&
       ((p1 > p_none * kNoneRatio && p1 >= kAcceptProbability) ||
-       (low_cost && p1 >= kAcceptWithTemplate && p1 >= p_none * none_ratio_with_template))) {
+       (low_cost && p1 >= accept_with_template && p1 >= p_none * none_ratio_with_template))) {
     u.match = reading(0);
     u.outcome = Understanding::Outcome::kMatch;
     u.reason = p1 >= kAcceptProbability ? "the model is sure" : "close template and model agree";

@@ -12,6 +12,7 @@
 #include <marvin/skill.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -46,9 +47,13 @@ class TimeSkill : public marvin::Skill {
         if (auto asked = local_day(request.slots["when"].value("at", std::string()))) day = *asked;
       }
       const date::year_month_day ymd{day};
-      const std::string which = day == today                   ? "Today is "
-                                : day == today + date::days{1} ? "Tomorrow is "
-                                                               : "That is ";
+      std::string which = day == today                   ? "Today is "
+                          : day == today + date::days{1} ? "Tomorrow is "
+                                                         : "That is ";
+      if (const std::string answer = yes_or_no(request.utterance, date::weekday{day});
+          day == today && !answer.empty()) {
+        which = answer + "today is ";
+      }
       robot().say(which + date::format("%A", date::weekday{day}) + ", " +
                   std::to_string(static_cast<unsigned>(ymd.day())) + " " +
                   date::format("%B %Y", ymd) + ".");
@@ -74,6 +79,39 @@ class TimeSkill : public marvin::Skill {
                                    date::day{static_cast<unsigned>(d)}};
     if (!ymd.ok()) return std::nullopt;
     return date::local_days{ymd};
+  }
+
+  // "is it Sunday?", "is today the weekend?": "Yes, " or "No, " before the date; "" for a
+  // request that asks no such question.
+  static std::string yes_or_no(const std::string& utterance, date::weekday today) {
+    std::vector<std::string> words;
+    std::string word;
+    for (char c : utterance + " ") {
+      if (std::isalpha(static_cast<unsigned char>(c))) {
+        word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      } else if (!word.empty()) {
+        words.push_back(word);
+        word.clear();
+      }
+    }
+    if (words.empty() || words[0] != "is") return "";
+    const bool weekend = today == date::Saturday || today == date::Sunday;
+    for (const std::string& w : words) {
+      if (w == "weekend") return weekend ? "Yes, " : "No, ";
+      if (w == "weekday") return weekend ? "No, " : "Yes, ";
+      for (unsigned d = 0; d < 7; ++d) {
+        if (w == lower_weekday(date::weekday{d})) {
+          return date::weekday{d} == today ? "Yes, " : "No, ";
+        }
+      }
+    }
+    return "";
+  }
+
+  static std::string lower_weekday(date::weekday day) {
+    std::string name = date::format("%A", day);
+    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return name;
   }
 
   // "is it morning", "day or night", "what part of the day is it".

@@ -41,6 +41,20 @@ TEST_CASE("the date of another day: tomorrow, a weekday") {
   CHECK(harness.say("what is the date today") == Lines{"Today is Saturday, 21 November 2026."});
 }
 
+TEST_CASE("is it Sunday, is it the weekend: yes or no, then the date; the year and month") {
+  marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
+  harness.robot().set_now(kSaturdayAfternoonUtc);
+  harness.robot().set_time_zone("Europe/Berlin");
+  CHECK(harness.say("is it the weekend?") == Lines{"Yes, today is Saturday, 21 November 2026."});
+  CHECK(harness.say("is today Sunday") == Lines{"No, today is Saturday, 21 November 2026."});
+  CHECK(harness.say("is it Saturday today") == Lines{"Yes, today is Saturday, 21 November 2026."});
+  CHECK(harness.say("is it a weekday") == Lines{"No, today is Saturday, 21 November 2026."});
+  CHECK(harness.say("what year is it") == Lines{"Today is Saturday, 21 November 2026."});
+  CHECK(harness.say("which month is it now") == Lines{"Today is Saturday, 21 November 2026."});
+  harness.robot().set_time_zone("Pacific/Kiritimati");  // UTC+14: already Sunday
+  CHECK(harness.say("is it Sunday") == Lines{"Yes, today is Sunday, 22 November 2026."});
+}
+
 TEST_CASE("is it morning or evening: the part of the day, then the clock") {
   marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
   harness.robot().set_now(kSaturdayAfternoonUtc);
