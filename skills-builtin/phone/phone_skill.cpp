@@ -49,6 +49,19 @@ bool means_help(const std::string& who) {
          w == "emergency" || w == "the emergency";
 }
 
+// "I want to talk to you", "can I speak to you for a moment": Marvin is meant, not a call.
+bool means_me(const std::string& who) {
+  const std::string w = " " + lower(who) + " ";
+  return w.rfind(" you ", 0) == 0 || (w.size() >= 5 && w.compare(w.size() - 5, 5, " you ") == 0);
+}
+
+// "I need to talk to someone": a call, to whom is still to be asked.
+bool means_anyone(const std::string& who) {
+  const std::string w = lower(who);
+  return w == "someone" || w == "somebody" || w == "anyone" || w == "anybody" ||
+         w == "a person" || w == "someone please";
+}
+
 // Whom an answer to "Shall I call ...?" names: "yes, call my daughter" -> "my daughter",
 // "Anna please" -> "Anna"; "" for a bare yes or no.
 std::string named_callee(const std::string& answer) {
@@ -114,6 +127,19 @@ class PhoneSkill : public marvin::Skill {
       auto it = request.slots.find("who");
       std::string who = it != request.slots.end() && it->is_string() ? it->get<std::string>() : "";
       if (means_help(who)) return call_for_help();
+      if (means_me(who)) {
+        robot().say("I'm listening. What can I do for you?");
+        return;
+      }
+      if (means_anyone(who)) {
+        const std::string named = named_callee(robot().ask("Whom should I call?"));
+        if (named.empty()) {
+          robot().say("OK. I'm here if you need me.");
+          return;
+        }
+        if (means_help(named)) return call_for_help();
+        return call(named, false);
+      }
       return call(who);
     }
     if (intent == "hang_up") return hang_up();

@@ -212,6 +212,31 @@ TEST_CASE("I'm lonely: offers to call someone, asks whom; no or an answer naming
   CHECK(dialled(h).empty());
 }
 
+TEST_CASE("I want to talk to Anna: a call; to you: no call; to someone: asks whom") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  for (const char* request : {"I want to talk to Annie", "I'd like to speak to my daughter",
+                              "can I talk to Anna Schmidt please", "let me speak with my daughter",
+                              "put me through to Annie"}) {
+    CAPTURE(request);
+    CHECK(h.intent_of(request) == "phone/call");
+    CHECK(h.say(request, {"yes"}) == Lines{"Call Anna Schmidt?", "Ringing Anna Schmidt.",
+                                           "You're connected to Anna Schmidt."});
+    h.say("hang up");
+  }
+  h.robot().clear();
+  for (const char* request : {"I want to talk to you", "can I speak to you for a moment"}) {
+    CAPTURE(request);
+    CHECK(h.say(request) == Lines{"I'm listening. What can I do for you?"});
+  }
+  CHECK(h.say("I need to talk to someone", {"nobody"}) ==
+        Lines{"Whom should I call?", "OK. I'm here if you need me."});
+  CHECK(dialled(h).empty());
+  CHECK(h.say("I need to talk to someone", {"my daughter please"}) ==
+        Lines{"Whom should I call?", "Ringing Anna Schmidt.", "You're connected to Anna Schmidt."});
+  CHECK(dialled(h) == Lines{"phone_dial sip:anna@127.0.0.1"});
+}
+
 TEST_CASE("bad input: no telephone, a refused registration, no emergency contact") {
   marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
   CHECK(h.say("call for help") ==
