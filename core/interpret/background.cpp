@@ -293,6 +293,9 @@ const std::vector<std::string>& background_sentences() {
       "i feel fantastic this morning", "i am feeling much better now", "i feel really good",
       "i'm feeling happy today", "i feel like a cup of tea", "i feel like watching a film",
       "i feel so relaxed", "i'm doing fine thanks",
+      // How one is, said in passing: no skill feeds or waters anyone ("I'm going out" is
+      // guard mode's; "I'm lonely" and "I feel unwell" are the phone's).
+      "i am hungry", "i'm so thirsty", "i am a bit tired today", "i'm full after that lunch",
       // Alerts on events in the world, not at a time: no skill watches prices or parcels.
       "alert me when bitcoin drops below 20000", "notify me when my parcel ships",
       "let me know if it starts to rain later", "tell me when petrol gets cheaper",

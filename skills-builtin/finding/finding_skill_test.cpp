@@ -130,6 +130,18 @@ TEST_CASE("a blocked room and a camera failure mid-search: clear speech, the roo
                          "I had looked in the living room.");
 }
 
+TEST_CASE("how one is, said in passing, is not about guarding the house") {
+  marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
+  for (const char* said : {"I am really hungry", "I'm so tired today", "I'm thirsty"}) {
+    CAPTURE(said);
+    const Lines out = h.say(said);
+    INFO(joined(out));
+    REQUIRE(out.size() == 1);
+    CHECK(out[0].rfind("Sorry, I don't know how to help with that.", 0) == 0);
+    CHECK_FALSE(h.robot().guarding());
+  }
+}
+
 TEST_CASE("guard mode: on by voice; off only for a known face; who came reads the events") {
   marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
   h.robot().set_camera_view(kStranger);
