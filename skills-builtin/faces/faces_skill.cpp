@@ -36,7 +36,15 @@ using nlohmann::json;
 constexpr std::uint32_t kEnrolFrames = 5;
 
 // "anna's" -> "Anna"; "anna maria" -> "Anna Maria".
+// "Anna's" -> "Anna"; an answer to "What name should I remember the face by?" may say more
+// than the name: "my name is Anna", "I'm Anna", "it's Anna".
 std::string person_name(std::string s) {
+  for (const char* lead : {"my name is ", "my name's ", "i'm ", "i am ", "it's ", "it is ",
+                           "this is ", "call me "}) {
+    const std::string l = lead;
+    if (s.size() > l.size() && lower(s.substr(0, l.size())) == l) s = s.substr(l.size());
+  }
+  while (!s.empty() && std::string_view(".!?,").find(s.back()) != std::string_view::npos) s.pop_back();
   if (s.size() > 2 && s.compare(s.size() - 2, 2, "'s") == 0) s.resize(s.size() - 2);
   return marvin::builtin::capitalised(s);
 }
@@ -117,7 +125,7 @@ class FacesSkill : public marvin::Skill {
 
   void handle(const marvin::Request& r) override {
     try {
-      if (r.intent == "who") who();
+      if (r.intent == "who") who(asks_about_me(r.utterance));
       else if (r.intent == "who_is") who_is(r.slots.value("person", ""));
       else if (r.intent == "what_do_you_see") what_do_you_see();
       else if (r.intent == "is_there") is_there(lower(r.slots.at("object").get<std::string>()));
@@ -133,16 +141,26 @@ class FacesSkill : public marvin::Skill {
   }
 
  private:
-  void who() {
+  // "who am I", "what's my name": the speaker is the one in front of the camera.
+  static bool asks_about_me(const std::string& utterance) {
+    const std::string u = " " + lower(utterance) + " ";
+    return u.find(" i ") != std::string::npos || u.find(" am i") != std::string::npos ||
+           u.find(" my name") != std::string::npos;
+  }
+
+  // `me`: said to the one asking ("You're Anna.").
+  void who(bool me = false) {
     const json seen = robot().vision_look();
     const auto people = people_in(seen);
     if (people.empty()) {
       robot().say("I don't see anyone.");
     } else if (people.size() == 1 && people[0] != "someone I don't know" &&
                people[0].find("people") == std::string::npos) {
-      robot().say("That's " + people[0] + ".");
+      robot().say((me ? "You're " : "That's ") + people[0] + ".");
     } else if (people.size() == 1 && people[0] == "someone I don't know") {
-      robot().say("That's someone I don't know.");
+      robot().say(me ? "I don't know your face yet. To introduce yourself, say \"remember my "
+                       "face\"."
+                     : "That's someone I don't know.");
     } else {
       robot().say("I see " + join_and(people) + ".");
     }

@@ -28,6 +28,20 @@ TEST_CASE("who is this: a stranger, then Anna after 'this is Anna' and a yes") {
   CHECK(h.say("forget anna's face") == Lines{"I don't know Anna's face."});
 }
 
+TEST_CASE("remember my face: asks the name (said any way), then who am I is answered to me") {
+  marvin::testing::SkillHarness h(FACES_SKILL_DIR);
+  h.robot().set_camera_view(kStranger);
+  CHECK(h.say("what's my name") ==
+        Lines{"I don't know your face yet. To introduce yourself, say \"remember my face\"."});
+  CHECK(h.say("remember my face", {"My name is Tom.", "yes"}) ==
+        Lines{"What name should I remember the face by?", "Shall I remember this face as Tom?",
+              "Nice to meet you, Tom. I'll remember your face."});
+  CHECK(h.robot().enrolled_faces() == Lines{"Tom"});
+  CHECK(h.say("who am I") == Lines{"You're Tom."});
+  CHECK(h.say("do you know my name") == Lines{"You're Tom."});
+  CHECK(h.say("who is this") == Lines{"That's Tom."});
+}
+
 TEST_CASE("who is Anna: answered from the contact book, not the camera") {
   marvin::testing::SkillHarness h(FACES_SKILL_DIR);
   h.robot().add_contact_json(

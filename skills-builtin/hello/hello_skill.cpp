@@ -29,7 +29,8 @@ class HelloSkill : public marvin::Skill {
       robot().say("You're welcome.");
     } else if (request.intent == "goodbye") {
       const bool night = request.utterance.find("night") != std::string::npos ||
-                         request.utterance.find("sleep") != std::string::npos;
+                         request.utterance.find("sleep") != std::string::npos ||
+                         request.utterance.find("bed") != std::string::npos;
       robot().say(night ? "Good night. Sleep well."
                         : "Goodbye. Just say my name when you need me.");
     } else if (request.intent == "about") {
