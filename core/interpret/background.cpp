@@ -296,6 +296,9 @@ const std::vector<std::string>& background_sentences() {
       // How one is, said in passing: no skill feeds or waters anyone ("I'm going out" is
       // guard mode's; "I'm lonely" and "I feel unwell" are the phone's).
       "i am hungry", "i'm so thirsty", "i am a bit tired today", "i'm full after that lunch",
+      // Changing and moving what is not on the schedule (the schedule skill moves appointments).
+      "change the channel", "change my password", "change the language to spanish",
+      "move the sofa to the other wall",
       // Alerts on events in the world, not at a time: no skill watches prices or parcels.
       "alert me when bitcoin drops below 20000", "notify me when my parcel ships",
       "let me know if it starts to rain later", "tell me when petrol gets cheaper",

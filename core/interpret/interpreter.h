@@ -25,6 +25,7 @@
 //   kDateTime -> {"at":"YYYY-MM-DDTHH:MM" (local wall time in Context::time_zone),
 //                 "utc_ms":N (the same instant), "time_zone":"Europe/Berlin",
 //                 "time_given":bool (false: no time of day said, 09:00 assumed),
+//                 "day_given":bool (false: only a time of day said, "at 3 pm"),
 //                 "recurrence":{"kind":"once|daily|weekdays|weekly|interval", ...}}
 //                 daily: "time":"HH:MM"; weekdays/weekly: "weekdays":["monday",...] and
 //                 "time"; interval: "every_seconds":N.

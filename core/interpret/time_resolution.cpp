@@ -214,6 +214,11 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
       {"time_zone", time_zone},
       {"time_given", phrase.time.has_value() || phrase.in_seconds.has_value() ||
                          phrase.kind == RecurrenceKind::kInterval},
+      // "to 3 pm" names no day, "to Friday at 3" does: moving an appointment keeps its own
+      // day in the first case (the schedule skill).
+      {"day_given", phrase.kind != RecurrenceKind::kOnce || phrase.day_offset.has_value() ||
+                        phrase.weekday_mask != 0 || phrase.month != 0 ||
+                        phrase.range != DayRange::kNone || phrase.in_seconds.has_value()},
       {"recurrence", recurrence}};
   if (range_days > 0) value["days"] = range_days;
   return value;

@@ -1,6 +1,6 @@
 // A parsed time phrase + the clock and time zone -> the slot value of a datetime slot:
 //   {"at":"YYYY-MM-DDTHH:MM", "utc_ms":N, "time_zone":"Europe/Berlin", "time_given":true,
-//    "recurrence":{"kind":"once"}}
+//    "day_given":false, "recurrence":{"kind":"once"}}
 //   recurrence kinds: {"kind":"daily","time":"08:00"},
 //     {"kind":"weekdays","weekdays":["monday",...,"friday"],"time":"07:30"},
 //     {"kind":"weekly","weekdays":["monday"],"time":"10:00"},
@@ -14,6 +14,8 @@
 //   recurrence it reads 7..11 as morning and 1..6 as afternoon ("tomorrow at 3" = 15:00);
 //   "tonight" reads it as evening.
 // - No time of day ("tomorrow", "every monday") means 09:00, with "time_given": false.
+// - "day_given" is false when only a time of day was said ("at 3 pm": the next 3 PM),
+//   true for a day, a weekday, a date, a range, a recurrence or "in 20 minutes".
 // - A local time that does not exist (spring-forward gap) resolves to the instant of the
 //   transition (02:30 -> 03:00 in Europe/Berlin); a repeated one (fall-back) to its first
 //   occurrence.

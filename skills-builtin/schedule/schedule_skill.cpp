@@ -4,6 +4,8 @@
 //   "what's on my schedule tomorrow"               -> that day's reminders, recurring included
 //   "when is my dentist appointment"               -> "Dentist appointment: on Friday, ..."
 //   "cancel the pill reminder"                     -> cancels the one reminder that matches
+//   "move my dentist appointment to Thursday"      -> the same time on the new day (or the
+//                                                     new time, on its day, for "to 3 pm")
 //   "delete all my reminders"                      -> asks, then cancels every reminder
 //   "add a contact"                                -> asks name and number
 //   "what is Anna's number"
@@ -168,6 +170,7 @@ class ScheduleSkill : public marvin::Skill {
     if (request.intent == "agenda_today") return agenda(today());
     if (request.intent == "when_is") return when_is(request.slots.at("task").get<std::string>());
     if (request.intent == "cancel") return cancel(request.slots.at("task").get<std::string>());
+    if (request.intent == "move") return move(request);
     if (request.intent == "snooze") return snooze(request);
     if (request.intent == "done") return done(request.utterance);
     if (request.intent == "was_done") return was_done(request);
@@ -490,6 +493,56 @@ class ScheduleSkill : public marvin::Skill {
     }
     robot().say(capital(second_person(hits[0].value("title", ""))) + ": " + spoken_when(hits[0]) +
                 ".");
+  }
+
+  // Added at the new time before the old one is removed: if the host fails in between, the
+  // appointment is there twice, never lost.
+  void move(const marvin::Request& request) {
+    const std::string task = request.slots.at("task").get<std::string>();
+    const json& when = request.slots.at("when");
+    const std::vector<std::string> wanted =
+        wanted_words(task, {"appointment", "reminder", "event", "it", "that", "time", "date"});
+    const std::vector<json> hits = matching(wanted, true);
+    if (hits.empty()) {
+      std::string what = lower(task);
+      for (const char* lead : {"the ", "my ", "your "}) {
+        if (what.rfind(lead, 0) == 0) what = what.substr(std::string(lead).size());
+      }
+      robot().say(wanted.empty() ? "You have nothing on your schedule to move."
+                                 : "I don't see your " + what + " on your schedule.");
+      return;
+    }
+    const json& old = hits.front();  // the soonest
+    const LocalTime was = parse_local(old.at("at").get<std::string>());
+    LocalTime to = parse_local(when.at("at").get<std::string>());
+    const bool time_given = when.value("time_given", true);
+    const bool day_given = when.value("day_given", true);
+    const json recurrence = old.value("recurrence", json::object());
+    const bool once = recurrence.value("kind", "once") == "once";
+    if (!once && (day_given || !time_given)) {
+      robot().say("That reminder repeats " + spoken_recurrence(recurrence, was.minute_of_day) +
+                  ". I can only move it to another time of day, for example \"move it to 10 "
+                  "AM\".");
+      return;
+    }
+    if (once && !time_given) to.minute_of_day = was.minute_of_day;  // "to Thursday": same time
+    if (once && !day_given) to.day = was.day;  // "to 3 pm": on its own day, not the next 3 PM
+    json moved = {{"title", old.value("title", "")}, {"at", local_text(to)}};
+    if (old.contains("time_zone")) moved["time_zone"] = old["time_zone"];
+    if (!once) moved["recurrence"] = recurrence;
+    const json created = robot().schedule_add(moved);
+    robot().schedule_remove(old.at("id").get<std::int64_t>());
+    robot().say("OK, I moved it. " + capital(second_person(old.value("title", ""))) + ": " +
+                spoken_when(created) + ".");
+  }
+
+  static std::string local_text(const LocalTime& t) {
+    const date::year_month_day ymd{t.day};
+    char text[32];
+    std::snprintf(text, sizeof text, "%04d-%02u-%02uT%02d:%02d", static_cast<int>(ymd.year()),
+                  static_cast<unsigned>(ymd.month()), static_cast<unsigned>(ymd.day()),
+                  t.minute_of_day / 60, t.minute_of_day % 60);
+    return text;
   }
 
   void cancel(const std::string& task) {

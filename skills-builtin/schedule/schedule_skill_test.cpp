@@ -150,6 +150,47 @@ TEST_CASE("when is my dentist appointment; my next appointment; the calendar sai
   CHECK(reminders(h).size() == 2);
 }
 
+TEST_CASE("move my dentist appointment to Thursday: same time, new day; to 11 am: same day") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);  // Monday 5 January, 10 AM
+  h.say("add the dentist appointment to my calendar on friday at 3 pm");
+  CHECK(h.intent_of("move my dentist appointment to Thursday") == "schedule/move");
+  CHECK(h.say("move my dentist appointment to Thursday") ==
+        Lines{"OK, I moved it. The dentist appointment: on Thursday, 8 January at 3 PM."});
+  auto stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["at"] == "2026-01-08T15:00");
+  CHECK(stored[0]["title"] == "the dentist appointment");
+  CHECK(h.say("change my dentist appointment to 11 am") ==
+        Lines{"OK, I moved it. The dentist appointment: on Thursday, 8 January at 11 AM."});
+  CHECK(h.say("reschedule the dentist", {"tomorrow at 9 am"}) ==
+        Lines{"When should it be instead?",
+              "OK, I moved it. The dentist appointment: tomorrow at 9 AM."});
+  stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["at"] == "2026-01-06T09:00");
+  // Nothing that matches: said, nothing changed.
+  CHECK(h.say("move my hair appointment to friday") ==
+        Lines{"I don't see your hair appointment on your schedule."});
+  CHECK(reminders(h) == stored);
+}
+
+TEST_CASE("a recurring reminder moves to another time of day, not to another day") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  h.say("remind me every day at 9 to take my pills");
+  const auto before = reminders(h);
+  CHECK(h.say("move my pill reminder to friday") ==
+        Lines{"That reminder repeats every day at 9 AM. I can only move it to another time of "
+              "day, for example \"move it to 10 AM\"."});
+  CHECK(reminders(h) == before);
+  CHECK(h.say("move my pills to 8 pm") == Lines{"OK, I moved it. Take your pills: every day at 8 PM."});
+  const auto after = reminders(h);
+  REQUIRE(after.size() == 1);
+  CHECK(after[0]["at"] == "2026-01-05T20:00");
+  CHECK(after[0]["recurrence"]["kind"] == "daily");
+}
+
 TEST_CASE("add a contact asks name and number; what is Anna's number") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   CHECK(h.say("add a contact", {"Anna Schmidt", "0171 555 0101"}) ==

@@ -143,6 +143,16 @@ TEST_CASE("time expressions: recurrence objects and instants") {
   nlohmann::json no_time = when("on monday", context);
   CHECK(no_time["time_given"] == false);
   CHECK(no_time["at"] == "2024-04-01T09:00");
+
+  // Whether a day was said, or only a time of day ("move it to 3 pm": its own day).
+  CHECK(when("at 3 pm", context)["day_given"] == false);
+  CHECK(when("half past seven", context)["day_given"] == false);
+  CHECK(when("on monday", context)["day_given"] == true);
+  CHECK(when("tomorrow at 3 pm", context)["day_given"] == true);
+  CHECK(when("today at 11 pm", context)["day_given"] == true);
+  CHECK(when("on april 3rd at 7:30", context)["day_given"] == true);
+  CHECK(when("every day at 8", context)["day_given"] == true);
+  CHECK(when("in 20 minutes", context)["day_given"] == true);
 }
 
 TEST_CASE("time expressions: spring forward in Europe/Berlin (2024-03-31)") {
