@@ -348,6 +348,19 @@ marvin_status api_contacts_find(marvin_host* host, const char* name,
   });
 }
 
+marvin_status api_contacts_list(marvin_host* host, marvin_text_out* contacts_json) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "contacts"));
+    MARVIN_TRY(need_out(c, contacts_json));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    json list = json::array();
+    for (const data::Contact& contact : c.services().data->list_contacts()) {
+      list.push_back(contact_to_json(contact));
+    }
+    return write_json(c, contacts_json, list);
+  });
+}
+
 marvin_status api_contacts_add(marvin_host* host, const char* contact_json,
                                marvin_text_out* created_json) {
   return guarded(host, [&](SkillContext& c) {
@@ -891,6 +904,7 @@ const marvin_robot_api* host_robot_api() {
     a.phone_wait_event = api_phone_wait_event;
     a.phone_call_for_help = api_phone_call_for_help;
     add_guiding_api(a);
+    a.contacts_list = api_contacts_list;
     keep_answers_of_acting_calls(a);
     return a;
   }();

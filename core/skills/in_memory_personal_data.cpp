@@ -115,6 +115,9 @@ std::vector<data::Contact> InMemoryPersonalData::list_contacts() {
   std::lock_guard lock(mutex_);
   std::vector<data::Contact> out;
   for (const auto& [id, c] : contacts_) out.push_back(c);
+  // By name, as the SQLite store lists them (contacts_ is by id).
+  std::stable_sort(out.begin(), out.end(),
+                   [](const data::Contact& a, const data::Contact& b) { return a.name < b.name; });
   return out;
 }
 

@@ -88,12 +88,12 @@ TEST_CASE("two Annas: asks which; unknown people and contacts without a number")
   marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
   contacts(h);
   CHECK(h.say("call Anna", {"Anna Berg", "yes"}) ==
-        Lines{"Do you mean Anna Schmidt or Anna Berg?", "Call Anna Berg?", "Ringing Anna Berg.",
+        Lines{"Do you mean Anna Berg or Anna Schmidt?", "Call Anna Berg?", "Ringing Anna Berg.",
               "You're connected to Anna Berg."});
   h.say("hang up");
   h.robot().clear();
   CHECK(h.say("call Anna", {"the doctor"}) ==
-        Lines{"Do you mean Anna Schmidt or Anna Berg?", "Sorry, I still don't know whom you mean."});
+        Lines{"Do you mean Anna Berg or Anna Schmidt?", "Sorry, I still don't know whom you mean."});
   // Slots arrive as heard, in lower case (the voice does not care).
   CHECK(h.say("call Fred") == Lines{"I don't know anyone called fred."});
   CHECK(h.say("call my son") == Lines{"I have no number for Tom Schmidt."});

@@ -9,6 +9,7 @@
 //   "delete all my reminders"                      -> asks, then cancels every reminder
 //   "add a contact"                                -> asks name and number
 //   "what is Anna's number"
+//   "who are my contacts"                          -> their names, the relation first
 //   "snooze" / "remind me again in 20 minutes" -> the reminder that fired last fires again
 //                                                 then (10 minutes when no time is said)
 //   "done" / "I took them"                     -> marks the reminder that fired last done
@@ -176,6 +177,7 @@ class ScheduleSkill : public marvin::Skill {
     if (request.intent == "was_done") return was_done(request);
     if (request.intent == "add_contact") return add_contact(request);
     if (request.intent == "contact_number") return contact_number(request.slots.at("name").get<std::string>());
+    if (request.intent == "list_contacts") return list_contacts();
     if (request.intent == "add_event") return remind(request, true);
     if (request.intent == "list_reminders") return list_reminders();
     if (request.intent == "set_timer") return set_timer(request.slots.at("duration").get<std::int64_t>());
@@ -743,6 +745,33 @@ class ScheduleSkill : public marvin::Skill {
     }
     robot().contacts_add({{"name", name}, {"phone_numbers", {number}}});
     robot().say("OK, I added " + name + " with the number " + spoken_number(number) + ".");
+  }
+
+  // "your daughter Anna Schmidt, Doctor Brown and Tom": the relation says who a name is,
+  // unless the name says it already. At most ten are read out.
+  void list_contacts() {
+    const json all = robot().contacts_list();
+    if (all.empty()) {
+      robot().say("You have no contacts yet. To add one, say \"add a contact\".");
+      return;
+    }
+    constexpr std::size_t kReadOut = 10;
+    std::vector<std::string> names;
+    for (const json& c : all) {
+      if (names.size() == kReadOut) break;
+      const std::string name = c.value("name", "");
+      const std::string relation = c.value("relation", "");
+      const bool said = relation.empty() || lower(name).find(lower(relation)) != std::string::npos;
+      names.push_back(said ? name : "your " + relation + " " + name);
+    }
+    if (all.size() == 1) {
+      robot().say("You have one contact: " + names[0] + ".");
+    } else if (all.size() <= kReadOut) {
+      robot().say("You have " + std::to_string(all.size()) + " contacts: " + join_and(names) + ".");
+    } else {
+      robot().say("You have " + std::to_string(all.size()) + " contacts. The first ten: " +
+                  join_and(names) + ".");
+    }
   }
 
   void contact_number(std::string name) {

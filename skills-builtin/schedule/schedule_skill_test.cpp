@@ -203,6 +203,29 @@ TEST_CASE("add a contact asks name and number; what is Anna's number") {
   CHECK(h.say("what is Carla's number") == Lines{"I don't have a contact called Carla."});
 }
 
+TEST_CASE("who are my contacts: none, then the names with who they are, by name") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  CHECK(h.intent_of("who are my contacts") == "schedule/list_contacts");
+  CHECK(h.intent_of("read me my contacts") == "schedule/list_contacts");
+  CHECK(h.say("list my contacts") ==
+        Lines{"You have no contacts yet. To add one, say \"add a contact\"."});
+  h.robot().add_contact_json(R"({"name": "Tom Schmidt", "relation": "son"})");
+  CHECK(h.say("who is in my address book") == Lines{"You have one contact: your son Tom Schmidt."});
+  h.robot().add_contact_json(R"({"name": "Doctor Brown", "relation": "doctor"})");
+  h.robot().add_contact_json(R"({"name": "Anna Berg"})");
+  CHECK(h.say("who are my contacts") ==
+        Lines{"You have 3 contacts: Anna Berg, Doctor Brown and your son Tom Schmidt."});
+  for (int i = 0; i < 9; ++i) {
+    h.robot().add_contact_json("{\"name\": \"Zoe " + std::string(1, static_cast<char>('A' + i)) + "\"}");
+  }
+  const Lines many = h.say("list my contacts");
+  REQUIRE(many.size() == 1);
+  CHECK(many[0].rfind("You have 12 contacts. The first ten: Anna Berg, Doctor Brown, your son "
+                      "Tom Schmidt, Zoe A,", 0) == 0);
+  CHECK(many[0].find("and Zoe G.") != std::string::npos);
+  CHECK(many[0].find("Zoe H") == std::string::npos);
+}
+
 TEST_CASE("a number that is not one is refused and nothing is added") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   const Lines said = h.say("add a contact", {"Bob", "banana"});

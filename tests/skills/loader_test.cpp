@@ -66,19 +66,19 @@ struct TempDir {
 TEST_CASE("a skill with another ABI major is refused, naming both versions") {
   CHECK(load_error("major_newer") ==
         "skill 'echo' (" + (kFixtures / "major_newer" / "skill.so").string() +
-            ") was built for Marvin ABI 2.0 but this host speaks ABI 1.4: the major versions "
+            ") was built for Marvin ABI 2.0 but this host speaks ABI 1.5: the major versions "
             "must be equal; rebuild the skill with a matching SDK");
 }
 
 TEST_CASE("a skill built for a newer ABI minor is refused, naming both versions") {
   CHECK(load_error("minor_newer") ==
         "skill 'echo' (" + (kFixtures / "minor_newer" / "skill.so").string() +
-            ") was built for Marvin ABI 1.7, newer than this host's ABI 1.4: update Marvin or "
+            ") was built for Marvin ABI 1.7, newer than this host's ABI 1.5: update Marvin or "
             "rebuild the skill with an older SDK");
 }
 
-TEST_CASE("a skill built for ABI 1.3 (before guide_to) still loads on this 1.4 host") {
-  CHECK(MARVIN_ABI_MINOR == 4);
+TEST_CASE("a skill built for ABI 1.3 (before guide_to) still loads on this 1.5 host") {
+  CHECK(MARVIN_ABI_MINOR == 5);
   CHECK(load_error("api13") == "(loaded)");
 }
 

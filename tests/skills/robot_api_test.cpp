@@ -207,6 +207,24 @@ TEST_CASE("contacts and people") {
   CHECK(std::string(api().last_error(c.host())) == "contact_json: \"name\": missing");
   CHECK(w.data.list_contacts().size() == 2);
 
+  // API 1.5: the whole book, by name (Anna was added first, Dr Weber second).
+  REQUIRE(api().struct_size >= offsetof(marvin_robot_api, contacts_list) + sizeof(void*));
+  out = {buffer, sizeof buffer, 0};
+  REQUIRE(api().contacts_list(c.host(), &out) == MARVIN_OK);
+  found = json::parse(std::string(buffer, out.length));
+  REQUIRE(found.size() == 2);
+  CHECK(found[0]["name"] == "Anna Schmidt");
+  CHECK(found[1]["name"] == "Dr Weber");
+  CHECK(found[1]["relation"] == "doctor");
+  char tiny[8];
+  out = {tiny, sizeof tiny, 0};
+  CHECK(api().contacts_list(c.host(), &out) == MARVIN_ERR_TRUNCATED);
+  CHECK(out.length > sizeof tiny);
+  SkillContext without("dice", {"storage"}, w.services);
+  out = {buffer, sizeof buffer, 0};
+  CHECK(api().contacts_list(without.host(), &out) == MARVIN_ERR_PERMISSION);
+  CHECK(std::string(api().last_error(without.host())).find("contacts") != std::string::npos);
+
   marvin::data::Person p;
   p.name = "Anna";
   w.data.add_person(p);

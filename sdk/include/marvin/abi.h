@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define MARVIN_ABI_MAJOR 1
-#define MARVIN_ABI_MINOR 4
+#define MARVIN_ABI_MINOR 5
 
 #if defined(__GNUC__)
 #define MARVIN_EXPORT __attribute__((visibility("default")))

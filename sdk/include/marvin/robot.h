@@ -12,12 +12,10 @@
  *   "motion"    move, stop, tilt_head, go_to, go_stop (API 1.2), guide_to (API 1.4)
  *   "sensors"   obstacle_scan, where_am_i (API 1.2)
  *   "schedule"  schedule_* (schedule_snooze, schedule_done, schedule_last_fired: API 1.1)
- *   "contacts"  contacts_*, people_list
+ *   "contacts"  contacts_*, people_list (contacts_list: API 1.5)
  *   "storage"   storage_*             (a skill only ever sees its own keys)
  *   "camera"    vision_look, vision_capture_photo (API 1.2)
  *   "faces"     vision_enroll_face, vision_forget_face (API 1.2): who the robot knows
- *   "vision", "phone", "smarthome"    the capabilities of later releases
-
  *   "smarthome" smarthome_set, smarthome_devices (API 1.2)
  *   "events"    events_list (API 1.3): the owner's event log (who came while out)
  *   "phone"     phone_call, phone_* (API 1.3)
@@ -83,7 +81,7 @@ typedef enum marvin_log_level {
 typedef int (*marvin_guide_event_fn)(void* user, const char* event_json);
 
 #define MARVIN_ROBOT_API_MAJOR 1
-#define MARVIN_ROBOT_API_MINOR 4
+#define MARVIN_ROBOT_API_MINOR 5
 
 typedef struct marvin_robot_api {
   uint32_t struct_size; /* sizeof(marvin_robot_api) as the host compiled it */
@@ -351,6 +349,12 @@ typedef struct marvin_robot_api {
    * on_event asked to stop; MARVIN_ERR_INVALID for a speed above 100. Permission "motion". */
   marvin_status (*guide_to)(marvin_host* host, const char* place, uint32_t speed_percent,
                             marvin_guide_event_fn on_event, void* user);
+
+  /* --- since API 1.5: the whole contact book ----------------------------------------
+   * Check struct_size (or minor) before calling this on an older host. */
+  /* Every contact ("who are my contacts?"), sorted by name, as a JSON array of the objects
+   * contacts_find writes; [] when there are none. Permission "contacts". */
+  marvin_status (*contacts_list)(marvin_host* host, marvin_text_out* contacts_json);
 } marvin_robot_api;
 
 #ifdef __cplusplus

@@ -251,6 +251,11 @@ class Robot {
     return nlohmann::json::parse(
         text([&](marvin_text_out* out) { return call(host_, n.c_str(), out); }));
   }
+  // Since API 1.5: every contact, sorted by name.
+  nlohmann::json contacts_list() {
+    auto call = fn(&marvin_robot_api::contacts_list, "contacts_list");
+    return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
+  }
   nlohmann::json contacts_add(const nlohmann::json& contact) {
     std::string in = contact.dump();
     auto call = fn(&marvin_robot_api::contacts_add, "contacts_add");
