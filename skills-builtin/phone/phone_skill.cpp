@@ -102,7 +102,9 @@ bool says_unwell(const std::string& utterance) {
                                "sick",    "ill",      "unwell",   "dizzy",  "faint", "poorly",
                                "awful",   "terrible", "bad",      "weak",   "pain",  "hurt",
                                "hurts",   "weather",  "nauseous", "queasy", "rough", "funny",
-                               "strange", "worse",    "off",      "shaky"};
+                               "strange", "worse",    "off",      "shaky",  "ache",  "aches",
+                               "aching",  "headache", "migraine", "fever",  "cough", "cold",
+                               "sore",    "toothache", "backache", "earache", "temperature"};
   std::string word;
   for (char c : lower(utterance) + " ") {
     if (std::isalpha(static_cast<unsigned char>(c)) || c == '\'') {

@@ -193,6 +193,19 @@ TEST_CASE("I don't feel well: asks before calling for help; good news is only an
   CHECK(dialled(h).empty());
 }
 
+TEST_CASE("a pain or an illness said as it is: the same offer to call for help") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  for (const char* said : {"I have a pain in my chest", "I've got a bad headache", "my back hurts",
+                           "I'm in pain", "I have a temperature"}) {
+    CAPTURE(said);
+    CHECK(h.intent_of(said) == "phone/unwell");
+    CHECK(h.say(said, {"no"}).front() == "I'm sorry you're not feeling well. Shall I call for help?");
+  }
+  CHECK(dialled(h).empty());
+  CHECK(h.say("my chest hurts", {"yes"}).at(1) == "Calling Anna Schmidt for help.");
+}
+
 TEST_CASE("I'm lonely: offers to call someone, asks whom; no or an answer naming no one") {
   marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
   contacts(h);
