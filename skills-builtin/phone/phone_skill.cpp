@@ -95,28 +95,45 @@ std::string named_callee(const std::string& answer) {
   return a;
 }
 
-// True when a request says its speaker feels bad: "i do not feel well", "i feel
-// dizzy", "i am a bit under the weather"; false for "i feel great".
-bool says_unwell(const std::string& utterance) {
-  static const char* kBad[] = {"not",     "no",       "don't",    "dont",   "can't", "isn't",
-                               "sick",    "ill",      "unwell",   "dizzy",  "faint", "poorly",
-                               "awful",   "terrible", "bad",      "weak",   "pain",  "hurt",
-                               "hurts",   "weather",  "nauseous", "queasy", "rough", "funny",
-                               "strange", "worse",    "off",      "shaky",  "ache",  "aches",
-                               "aching",  "headache", "migraine", "fever",  "cough", "cold",
-                               "sore",    "toothache", "backache", "earache", "temperature"};
+// Whether any word of `utterance` is one of `words` (letters and apostrophes make a word).
+template <std::size_t N>
+bool has_word(const std::string& utterance, const char* const (&words)[N]) {
   std::string word;
   for (char c : lower(utterance) + " ") {
     if (std::isalpha(static_cast<unsigned char>(c)) || c == '\'') {
       word += c;
       continue;
     }
-    for (const char* bad : kBad) {
-      if (word == bad) return true;
+    for (const char* w : words) {
+      if (word == w) return true;
     }
     word.clear();
   }
   return false;
+}
+
+// True when a request says its speaker feels bad: "i do not feel well", "i feel
+// dizzy", "i am a bit under the weather", "i slipped"; false for "i feel great".
+bool says_unwell(const std::string& utterance) {
+  static const char* const kBad[] = {
+      "not",      "no",       "don't",     "dont",     "can't",   "isn't",   "sick",
+      "ill",      "unwell",   "dizzy",     "faint",    "poorly",  "awful",   "terrible",
+      "bad",      "weak",     "pain",      "pains",    "hurt",    "hurts",   "weather",
+      "nauseous", "queasy",   "rough",     "funny",    "strange", "worse",   "off",
+      "shaky",    "ache",     "aches",     "aching",   "headache", "migraine", "fever",
+      "cough",    "cold",     "sore",      "toothache", "backache", "earache", "temperature",
+      "cut",      "burnt",    "burned",    "doctor",   "slipped", "tripped", "fell",
+      "fallen"};
+  return has_word(utterance, kBad);
+}
+
+// True when a request says its speaker feels fine: "i feel great", "i'm feeling better".
+bool says_well(const std::string& utterance) {
+  static const char* const kGood[] = {"great",     "good",    "fine",      "better", "well",
+                                      "fantastic", "wonderful", "happy",   "excellent",
+                                      "brilliant", "okay",    "ok",        "relaxed", "lovely",
+                                      "marvellous", "super",  "grand"};
+  return has_word(utterance, kGood);
 }
 
 class PhoneSkill : public marvin::Skill {
@@ -150,7 +167,10 @@ class PhoneSkill : public marvin::Skill {
     if (intent == "emergency") return call_for_help();
     if (intent == "calls") return calls();
     if (intent == "unwell") return unwell(request.utterance);
-    if (intent == "lonely") return lonely();
+    if (intent == "lonely") {
+      auto it = request.slots.find("who");
+      return lonely(it != request.slots.end() && it->is_string() ? it->get<std::string>() : "");
+    }
   }
 
  private:
@@ -244,9 +264,10 @@ class PhoneSkill : public marvin::Skill {
 
   // Asks before anyone is called: feeling unwell is not yet an emergency. The intent model
   // hears "I feel great" close to "I don't feel good" (it weighs words, not their order), so
-  // a request without a word of feeling bad is taken as the good news it is.
+  // a request with a word of feeling fine and none of feeling bad is taken as the good news
+  // it is; anything else ("I slipped") is asked about.
   void unwell(const std::string& utterance) {
-    if (!says_unwell(utterance)) {
+    if (!says_unwell(utterance) && says_well(utterance)) {
       robot().say("I'm glad to hear that.");
       return;
     }
@@ -260,7 +281,16 @@ class PhoneSkill : public marvin::Skill {
         "contacts.");
   }
 
-  void lonely() {
+  // `missed`: "I miss my daughter" -> offers to call her.
+  void lonely(const std::string& missed = "") {
+    if (!missed.empty() && callable(missed)) {
+      const std::string name = robot().phone_resolve(missed).value("name", missed);
+      if (is_yes(robot().ask("I'm sure you do. Shall I call " + name + " for you?"))) {
+        return call(missed, false);
+      }
+      robot().say("OK. I'm here if you need me.");
+      return;
+    }
     const std::string answer = robot().ask("I'm sorry to hear that. Shall I call someone for you?");
     std::string named = named_callee(answer);
     if (!named.empty() && !is_yes(answer) && !callable(named)) named.clear();  // "I'm fine"

@@ -137,6 +137,19 @@ TEST_CASE("call for help: no question, the emergency contacts in order, each ste
   CHECK(h.say("emergency").back() == "Nobody answered the emergency call.");
 }
 
+TEST_CASE("a fall, a stroke, smoke or gas said as it is: the emergency call, no question") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  for (const char* said : {"I fell in the bathroom", "I think I'm having a stroke",
+                           "there's smoke in the kitchen", "I smell gas"}) {
+    CAPTURE(said);
+    CHECK(h.intent_of(said) == "phone/emergency");
+    CHECK(h.say(said).front() == "Calling Anna Schmidt for help.");
+    CHECK(h.robot().asked().empty());
+    h.say("hang up");
+  }
+}
+
 TEST_CASE("did anyone call: the last day's calls from the event log, missed ones first") {
   marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
   contacts(h);
@@ -204,6 +217,15 @@ TEST_CASE("a pain or an illness said as it is: the same offer to call for help")
   }
   CHECK(dialled(h).empty());
   CHECK(h.say("my chest hurts", {"yes"}).at(1) == "Calling Anna Schmidt for help.");
+  h.say("hang up");
+  h.robot().clear();
+  // Neither good nor bad news in words the skill knows: asked, not congratulated.
+  for (const char* said : {"I slipped", "I cut my finger", "I need a doctor"}) {
+    CAPTURE(said);
+    CHECK(h.intent_of(said) == "phone/unwell");
+    CHECK(h.say(said, {"no"}).front() == "I'm sorry you're not feeling well. Shall I call for help?");
+  }
+  CHECK(dialled(h).empty());
 }
 
 TEST_CASE("I'm lonely: offers to call someone, asks whom; no or an answer naming no one") {
@@ -216,6 +238,17 @@ TEST_CASE("I'm lonely: offers to call someone, asks whom; no or an answer naming
   CHECK(dialled(h) == Lines{"phone_dial sip:anna@127.0.0.1"});
   h.say("hang up");
   h.robot().clear();
+  // Someone missed by name: offered a call to them.
+  CHECK(h.say("I miss my daughter", {"yes please"}) ==
+        Lines{"I'm sure you do. Shall I call Anna Schmidt for you?", "Ringing Anna Schmidt.",
+              "You're connected to Anna Schmidt."});
+  h.say("hang up");
+  h.robot().clear();
+  CHECK(h.say("I miss my son", {"no"}) ==
+        Lines{"I'm sure you do. Shall I call Tom Schmidt for you?", "OK. I'm here if you need me."});
+  CHECK(h.say("I'm scared", {"no"}) ==
+        Lines{"I'm sorry to hear that. Shall I call someone for you?", "OK. I'm here if you need me."});
+  CHECK(dialled(h).empty());
   for (const char* answer : {"no thanks", "I'm fine", "not really"}) {
     CAPTURE(answer);
     CHECK(h.say("I feel lonely", {answer}) ==
