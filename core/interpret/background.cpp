@@ -299,6 +299,8 @@ const std::vector<std::string>& background_sentences() {
       // Changing and moving what is not on the schedule (the schedule skill moves appointments).
       "change the channel", "change my password", "change the language to spanish",
       "move the sofa to the other wall",
+      // The sun and the sky: no skill knows them (the time skill knows the clock).
+      "what time is sunset", "when is sunrise tomorrow", "is it dark outside yet",
       // Alerts on events in the world, not at a time: no skill watches prices or parcels.
       "alert me when bitcoin drops below 20000", "notify me when my parcel ships",
       "let me know if it starts to rain later", "tell me when petrol gets cheaper",

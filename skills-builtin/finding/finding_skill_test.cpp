@@ -34,6 +34,10 @@ TEST_CASE("find Anna: searches the rooms, the map's room for her first, and repo
   h.robot().clear();
   CHECK(h.say("where is anna", {"no"}) ==
         Lines{"I saw Anna in the kitchen, just now.", "Shall I look again?"});
+  // "is Anna home" asks the same (it once turned guard mode off: "Welcome home!").
+  CHECK(h.intent_of("is Anna home") == "finding/where_is");
+  CHECK(h.say("is Anna home", {"no"}) ==
+        Lines{"I saw Anna in the kitchen, just now.", "Shall I look again?"});
   const std::string actions = joined(h.robot().actions());
   INFO(actions);
   CHECK(actions.find("go_to") == std::string::npos);

@@ -291,3 +291,13 @@ TEST_CASE("the time somewhere else: the time intent with the place as a slot") {
   // The time skill's declared synonym: people read the time off "the clock".
   CHECK(reading(in, "what does the clock say") == "time/time");
 }
+
+TEST_CASE("the sun is not the clock: sunset and sunrise are declined, the time is not") {
+  const Interpreter in = builtin_interpreter();
+  // Written for this test, not among the interpreter's out-of-scope sentences.
+  for (const char* sky : {"when is sunset", "what time is sunset tomorrow", "what time is sunrise"}) {
+    CAPTURE(sky);
+    CHECK(reading(in, sky).rfind("time/", 0) != 0);
+  }
+  CHECK(reading(in, "what time is it now") == "time/time");
+}
