@@ -15,6 +15,7 @@ const std::vector<std::pair<std::string, std::string>>& default_eval_labels() {
       {"schedule/when_is", "schedule_query"},
       {"schedule/add_event", "schedule_change"},
       {"schedule/cancel", "schedule_change"},
+      {"schedule/move", "schedule_change"},
       {"schedule/set_timer", "timer"},
       {"schedule/timer_left", "timer"},
       {"schedule/cancel_timer", "timer"},
