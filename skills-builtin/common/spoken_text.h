@@ -16,6 +16,22 @@ inline std::string lower(std::string s) {
   return s;
 }
 
+// The words of what someone said, in lower case; letters and apostrophes make a word:
+// "Is it Sunday?" -> {"is", "it", "sunday"}, "I don't" -> {"i", "don't"}.
+inline std::vector<std::string> words_in(const std::string& text) {
+  std::vector<std::string> words;
+  std::string word;
+  for (char c : text + " ") {
+    if (std::isalpha(static_cast<unsigned char>(c)) || c == '\'') {
+      word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    } else if (!word.empty()) {
+      words.push_back(word);
+      word.clear();
+    }
+  }
+  return words;
+}
+
 // "the kitchen light is on" -> "The kitchen light is on".
 inline std::string capital(std::string s) {
   if (!s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));

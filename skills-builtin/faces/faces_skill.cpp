@@ -44,7 +44,9 @@ std::string person_name(std::string s) {
     const std::string l = lead;
     if (s.size() > l.size() && lower(s.substr(0, l.size())) == l) s = s.substr(l.size());
   }
-  while (!s.empty() && std::string_view(".!?,").find(s.back()) != std::string_view::npos) s.pop_back();
+  while (!s.empty() && std::string_view(".!?,").find(s.back()) != std::string_view::npos) {
+    s.pop_back();
+  }
   if (s.size() > 2 && s.compare(s.size() - 2, 2, "'s") == 0) s.resize(s.size() - 2);
   return marvin::builtin::capitalised(s);
 }

@@ -25,6 +25,7 @@ namespace {
 using marvin::builtin::ago;
 using marvin::builtin::join_and;
 using marvin::builtin::lower;
+using marvin::builtin::words_in;
 
 using nlohmann::json;
 
@@ -95,19 +96,13 @@ std::string named_callee(const std::string& answer) {
   return a;
 }
 
-// Whether any word of `utterance` is one of `words` (letters and apostrophes make a word).
+// Whether any word of `utterance` is one of `words`.
 template <std::size_t N>
 bool has_word(const std::string& utterance, const char* const (&words)[N]) {
-  std::string word;
-  for (char c : lower(utterance) + " ") {
-    if (std::isalpha(static_cast<unsigned char>(c)) || c == '\'') {
-      word += c;
-      continue;
-    }
+  for (const std::string& said : words_in(utterance)) {
     for (const char* w : words) {
-      if (word == w) return true;
+      if (said == w) return true;
     }
-    word.clear();
   }
   return false;
 }

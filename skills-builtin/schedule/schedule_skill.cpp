@@ -40,6 +40,7 @@ using marvin::builtin::capital;
 using marvin::builtin::capitalised;
 using marvin::builtin::join_and;
 using marvin::builtin::lower;
+using marvin::builtin::words_in;
 
 using nlohmann::json;
 
@@ -468,12 +469,11 @@ class ScheduleSkill : public marvin::Skill {
     static constexpr const char* kMedicine[] = {"pill", "tablet", "medicine", "medication",
                                                 "med", "capsule", "drug", "dose"};
     auto is_medicine = [](std::string w) {
-      while (!w.empty() && !std::isalpha(static_cast<unsigned char>(w.back()))) w.pop_back();
       if (w.size() > 3 && w.back() == 's') w.pop_back();
       return std::any_of(std::begin(kMedicine), std::end(kMedicine),
                          [&](const char* m) { return w == m; });
     };
-    const std::vector<std::string> title_words = words_of(title);
+    const std::vector<std::string> title_words = words_in(title);
     const bool about_medicine = std::any_of(title_words.begin(), title_words.end(), is_medicine);
     return std::all_of(wanted.begin(), wanted.end(), [&](const std::string& w) {
       return is_medicine(w) ? about_medicine : title.find(w) != std::string::npos;
@@ -538,13 +538,9 @@ class ScheduleSkill : public marvin::Skill {
                 spoken_when(created) + ".");
   }
 
+  // The inverse of parse_local: "YYYY-MM-DDTHH:MM".
   static std::string local_text(const LocalTime& t) {
-    const date::year_month_day ymd{t.day};
-    char text[32];
-    std::snprintf(text, sizeof text, "%04d-%02u-%02uT%02d:%02d", static_cast<int>(ymd.year()),
-                  static_cast<unsigned>(ymd.month()), static_cast<unsigned>(ymd.day()),
-                  t.minute_of_day / 60, t.minute_of_day % 60);
-    return text;
+    return date::format("%FT%R", t.day + std::chrono::minutes{t.minute_of_day});
   }
 
   void cancel(const std::string& task) {
@@ -674,7 +670,7 @@ class ScheduleSkill : public marvin::Skill {
     for (std::string& w : wanted) {
       if (w.size() > 5 && w.compare(w.size() - 2, 2, "ed") == 0) w.resize(w.size() - 2);
     }
-    std::vector<std::string> said = words_of(lower(request.utterance));
+    const std::vector<std::string> said = words_in(request.utterance);
     const bool forgot = std::any_of(said.begin(), said.end(), [](const std::string& w) {
       return w == "forget" || w == "forgot" || w == "forgotten";
     });

@@ -5,6 +5,7 @@
 // ("America/New_York"); otherwise the local time and a word that the place is unknown.
 // "is it morning or evening?" / "is it night?" -> "It's the evening: 7:10 PM." (someone who
 // has slept in the day may not know, and "evening" alone says more than the clock).
+// "is it the weekend?" / "is today Sunday?" -> "Yes, today is Saturday, ..." or "No, ...".
 #include <date/tz.h>
 
 #include <cctype>
@@ -13,6 +14,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "common/spoken_text.h"
 
 namespace {
 
@@ -84,23 +87,14 @@ class TimeSkill : public marvin::Skill {
   // "is it Sunday?", "is today the weekend?": "Yes, " or "No, " before the date; "" for a
   // request that asks no such question.
   static std::string yes_or_no(const std::string& utterance, date::weekday today) {
-    std::vector<std::string> words;
-    std::string word;
-    for (char c : utterance + " ") {
-      if (std::isalpha(static_cast<unsigned char>(c))) {
-        word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      } else if (!word.empty()) {
-        words.push_back(word);
-        word.clear();
-      }
-    }
+    const std::vector<std::string> words = marvin::builtin::words_in(utterance);
     if (words.empty() || words[0] != "is") return "";
     const bool weekend = today == date::Saturday || today == date::Sunday;
     for (const std::string& w : words) {
       if (w == "weekend") return weekend ? "Yes, " : "No, ";
       if (w == "weekday") return weekend ? "No, " : "Yes, ";
       for (unsigned d = 0; d < 7; ++d) {
-        if (w == lower_weekday(date::weekday{d})) {
+        if (w == marvin::builtin::lower(date::format("%A", date::weekday{d}))) {
           return date::weekday{d} == today ? "Yes, " : "No, ";
         }
       }
@@ -108,25 +102,13 @@ class TimeSkill : public marvin::Skill {
     return "";
   }
 
-  static std::string lower_weekday(date::weekday day) {
-    std::string name = date::format("%A", day);
-    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return name;
-  }
-
   // "is it morning", "day or night", "what part of the day is it".
   static bool asks_part_of_day(const std::string& utterance) {
-    std::string word;
-    for (char c : utterance + " ") {
-      if (std::isalpha(static_cast<unsigned char>(c))) {
-        word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        continue;
-      }
+    for (const std::string& word : marvin::builtin::words_in(utterance)) {
       for (const char* part : {"morning", "afternoon", "evening", "night", "nighttime",
                                "daytime", "day"}) {
         if (word == part) return true;
       }
-      word.clear();
     }
     return false;
   }
