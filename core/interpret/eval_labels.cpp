@@ -14,6 +14,7 @@ const std::vector<std::pair<std::string, std::string>>& default_eval_labels() {
       {"schedule/agenda_today", "schedule_query"},
       {"schedule/when_is", "schedule_query"},
       {"schedule/add_event", "schedule_change"},
+      {"schedule/have_event", "schedule_change"},
       {"schedule/cancel", "schedule_change"},
       {"schedule/move", "schedule_change"},
       {"schedule/set_timer", "timer"},

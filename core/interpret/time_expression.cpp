@@ -312,9 +312,9 @@ class TimeReader {
       phrase.day_offset = 0;
       return true;
     }
-    if (accept("tonight")) {
+    if (accept("tonight")) {  // today, and without a time in the evening, not at 9 AM
       phrase.day_offset = 0;
-      phrase.evening = true;
+      set_part(phrase, false, 20);
       return true;
     }
     if (accept("tomorrow")) {

@@ -25,6 +25,7 @@
 #include <cstdio>
 #include <limits>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -180,6 +181,7 @@ class ScheduleSkill : public marvin::Skill {
     if (request.intent == "contact_number") return contact_number(request.slots.at("name").get<std::string>());
     if (request.intent == "list_contacts") return list_contacts();
     if (request.intent == "add_event") return remind(request, true);
+    if (request.intent == "have_event") return have_event(request);
     if (request.intent == "list_reminders") return list_reminders();
     if (request.intent == "set_timer") return set_timer(request.slots.at("duration").get<std::int64_t>());
     if (request.intent == "timer_left") return timer_left();
@@ -221,6 +223,63 @@ class ScheduleSkill : public marvin::Skill {
       return;
     }
     robot().say("OK, I'll remind you to " + second_person(task) + " " + spoken_when(created) + ".");
+  }
+
+  // "I have a doctor's appointment on Tuesday at 10:30", "my daughter is coming on Friday":
+  // said as news, not as an order, and put on the calendar as the entry it names. The entry's
+  // title is built from the pieces the templates take apart: the kind ("appointment"), what
+  // or whom it is with (before the kind, "doctor's appointment", or after "with", "meeting
+  // with the bank"), or the visitor ("my daughter's visit").
+  void have_event(const marvin::Request& request) {
+    const auto slot = [&](const char* name) {
+      return request.slots.contains(name) ? request.slots.at(name).get<std::string>() : std::string();
+    };
+    const std::string kind = slot("kind"), task = slot("task"), visitor = slot("visitor");
+    if (kind.empty() && (task == "nothing" || task == "no plans" || task == "nothing on")) {
+      // "I have nothing on Tuesday": a day they think is free; say whether it is.
+      return agenda(parse_local(request.slots.at("when").at("at")).day);
+    }
+    std::string title;
+    if (!visitor.empty()) {
+      title = visitor + (visitor.back() == 's' ? "' visit" : "'s visit");
+    } else if (task.empty()) {
+      title = kind;
+    } else if (kind.empty()) {
+      title = task;
+    } else {
+      // The order they were said in: "a dentist appointment", or "an appointment with the
+      // dentist" / "at the hospital" (the word before the task is its preposition).
+      const std::string said = lower(request.utterance);
+      const std::size_t at_task = said.find(task), at_kind = said.find(kind);
+      title = task + " " + kind;
+      if (at_task != std::string::npos && at_kind != std::string::npos && at_kind < at_task) {
+        const std::vector<std::string> before = words_of(said.substr(0, at_task));
+        const bool at = !before.empty() && before.back() == "at";
+        title = kind + (at ? " at " : " with ") + task;
+      }
+    }
+    const json created = add_reminder(title, request.slots.at("when"));
+    robot().say("OK, I put " + with_article(second_person(title)) + " on your calendar " +
+                spoken_when(created) + ".");
+  }
+
+  // "appointment" -> "an appointment", "dentist appointment" -> "a dentist appointment"; "your
+  // daughter's visit" and "lunch with Anna" stay as they are.
+  static std::string with_article(const std::string& title) {
+    static const std::set<std::string, std::less<>> countable = {
+        "appointment", "visit", "meeting", "checkup", "lesson", "class", "party", "interview",
+        "operation", "haircut", "session", "test", "scan", "concert", "game", "match", "trip",
+        "flight", "service", "up"};  // "up": "check up"
+    static const std::set<std::string, std::less<>> determiners = {"a", "an", "the", "your", "my",
+                                                                   "his", "her", "our", "their"};
+    const std::vector<std::string> words = words_of(lower(title));
+    if (words.empty() || determiners.contains(words.front())) return title;
+    if (std::none_of(words.begin(), words.end(),
+                     [](const std::string& w) { return countable.contains(w); })) {
+      return title;
+    }
+    const bool vowel = std::string_view("aeiou").find(words.front().front()) != std::string_view::npos;
+    return (vowel ? "an " : "a ") + title;
   }
 
   static constexpr const char* kAlarmTitle = "time to wake up";

@@ -3,6 +3,8 @@
 
 #include <dlfcn.h>
 
+#include <map>
+
 #include <nlohmann/json.hpp>
 
 #include <marvin/skill.h>
@@ -148,6 +150,34 @@ TEST_CASE("when is my dentist appointment; my next appointment; the calendar sai
   CHECK(h.say("what time is my hair appointment") ==
         Lines{"I don't see your hair appointment on your schedule."});
   CHECK(reminders(h).size() == 2);
+}
+
+TEST_CASE("I have a doctor's appointment on Friday at 10:30: told as news, put on the calendar") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  CHECK(h.say("I have a doctor's appointment on Friday at 10:30") ==
+        Lines{"OK, I put a doctor's appointment on your calendar on Friday, 9 January at 10:30 AM."});
+  CHECK(h.say("I've got an appointment with the bank tomorrow at 11") ==
+        Lines{"OK, I put an appointment with the bank on your calendar tomorrow at 11 AM."});
+  CHECK(h.say("my daughter is coming on Saturday at noon") ==
+        Lines{"OK, I put your daughter's visit on your calendar on Saturday, 10 January at 12 PM."});
+  std::map<std::string, std::string> at_by_title;
+  for (const json& r : reminders(h)) at_by_title[r["title"]] = r["at"];
+  CHECK(at_by_title == std::map<std::string, std::string>{
+                           {"doctor's appointment", "2026-01-09T10:30"},
+                           {"appointment with the bank", "2026-01-06T11:00"},
+                           {"my daughter's visit", "2026-01-10T12:00"}});
+  CHECK(h.say("when is my doctor's appointment") ==
+        Lines{"Doctor's appointment: on Friday, 9 January at 10:30 AM."});
+}
+
+TEST_CASE("I have nothing on Tuesday: the day is read back, nothing is added") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  h.say("remind me on tuesday at 4 pm to call Anna");
+  CHECK(h.say("I have nothing on Tuesday") ==
+        Lines{"Tomorrow: call anna at 4 PM."});
+  CHECK(reminders(h).size() == 1);
 }
 
 TEST_CASE("move my dentist appointment to Thursday: same time, new day; to 11 am: same day") {

@@ -90,6 +90,7 @@ TEST_CASE("time expressions: table against Friday 2024-03-29 10:00 Europe/Berlin
       {"at 6 tomorrow morning", "2024-03-30T06:00", "once"},
       {"tomorrow morning", "2024-03-30T09:00", "once"},
       {"tomorrow afternoon", "2024-03-30T15:00", "once"},
+      {"tonight", "2024-03-29T20:00", "once"},  // a reminder "tonight" is not at 9 AM
       {"this evening", "2024-03-29T19:00", "once"},
       {"this evening at 7", "2024-03-29T19:00", "once"},
       {"on monday evening at 7", "2024-04-01T19:00", "once"},
