@@ -110,6 +110,14 @@ perception::SynthesisOptions synthesis_options(const VoiceHostOptions& o) {
 
 }  // namespace
 
+perception::SynthesisOptions styled_voice(const perception::SynthesisOptions& base,
+                                          const skills::Manager::VoiceStyle& style) {
+  perception::SynthesisOptions out = base;
+  out.rate_wpm = std::clamp(base.rate_wpm + 20 * style.rate_steps, 80, 450);
+  out.volume = std::clamp(base.volume + base.volume / 4 * style.volume_steps, 10, 200);
+  return out;
+}
+
 VoiceHost::VoiceHost(Host& host, const VoiceHostOptions& options)
     : host_(host),
       options_(options),
@@ -187,9 +195,24 @@ VoiceHost::VoiceHost(Host& host, const VoiceHostOptions& options)
     changed_.notify_all();
   });
   host.set_body(*light_);
+  // Called on the host loop's thread; the synthesizer is the voice thread's, so the change
+  // waits for apply_voice_style() there (before the reply that confirms it is spoken).
+  host.manager().on_voice_style([this](skills::Manager::VoiceStyle style) {
+    std::lock_guard lock(mutex_);
+    voice_style_ = style;
+  });
 }
 
 VoiceHost::~VoiceHost() = default;
+
+void VoiceHost::apply_voice_style() {
+  std::optional<skills::Manager::VoiceStyle> style;
+  {
+    std::lock_guard lock(mutex_);
+    style.swap(voice_style_);
+  }
+  if (style) synthesizer_.set_options(styled_voice(synthesis_options(options_), *style));
+}
 
 void VoiceHost::rebuild_grammar() {
   SkillPhrases phrases = skill_phrases(host_.registry());
@@ -259,6 +282,7 @@ perception::Reply VoiceHost::respond(const perception::Recognition& recognition)
     question_later_ = false;
     question = last_said_;
   }
+  apply_voice_style();  // "speak slower": its "OK" already in the new voice
   if (reply.expects_answer) reply.answer_grammar = answer_grammar_for(question);
   refresh_grammar(false);  // the turn may have added a contact or a reminder
   return reply;
@@ -277,6 +301,7 @@ void VoiceHost::pump() {
     skills_changed = phrases_changed_;
     last = last_said_;
   }
+  apply_voice_style();
   for (const std::string& sentence : said) loop_->say(sentence);
   if (skills_changed) refresh_grammar(false);
   if (question) loop_->expect_answer(answer_grammar_for(last));

@@ -77,6 +77,12 @@ struct VoiceHostOptions {
 std::unique_ptr<perception::WakeWordDetector> make_wake_word(const std::string& kind,
                                                              float sensitivity);
 
+// The voice `base` made slower or faster, louder or quieter by `style` ("speak slower",
+// skills/manager.h): 20 words per minute and a quarter of the volume per step, within what
+// espeak-ng takes.
+perception::SynthesisOptions styled_voice(const perception::SynthesisOptions& base,
+                                          const skills::Manager::VoiceStyle& style);
+
 class VoiceHost {
  public:
   // Call after host.load() and before host.loop().run(): loads the models, builds the
@@ -115,6 +121,7 @@ class VoiceHost {
   void refresh_grammar(bool force);  // voice thread
   std::string answer_grammar_for(const std::string& question);
   void feed(std::span<const std::int16_t> samples);
+  void apply_voice_style();       // voice thread: a change asked for since the last turn
 
   Host& host_;
   VoiceHostOptions options_;
@@ -142,6 +149,7 @@ class VoiceHost {
   bool question_later_ = false;           // guarded: a task asked after the turn ended
   SkillPhrases phrases_;                  // guarded
   bool phrases_changed_ = false;          // guarded
+  std::optional<skills::Manager::VoiceStyle> voice_style_;  // guarded: not applied yet
 };
 
 }  // namespace marvin::app

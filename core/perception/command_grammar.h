@@ -45,7 +45,10 @@ struct GrammarOptions {
   // Accepted after any intent as whole utterances (the interpreter's built-in intents).
   std::vector<std::string> conversation_phrases = {
       "stop", "cancel", "never mind", "yes", "yeah", "sure", "no", "nope", "repeat",
-      "say that again", "marvin stop", "stop it", "please stop"};
+      "say that again", "marvin stop", "stop it", "please stop",
+      // how Marvin speaks (interpret/voice_change.h)
+      "speak slower", "speak faster", "speak louder", "speak up", "speak more quietly",
+      "i can not hear you"};
   // The words a kText slot may be made of (in addition to every template and slot word).
   std::vector<std::string> free_text_words = default_free_text_words();
   // Also accept each slot's values alone. Off by default: it loosens the grammar and costs

@@ -185,6 +185,44 @@ std::string Manager::no_match_sentence() {
   return "Sorry, I don't know how to help with that.";
 }
 
+void Manager::change_voice(interpret::VoiceChange change) {
+  if (!voice_hook_) {
+    say("I'm not speaking aloud now, so there is no voice to change.");
+    return;
+  }
+  struct Way {
+    int VoiceStyle::*field;
+    int step;
+    const char* done;   // said in the new voice
+    const char* limit;  // said when it cannot go further
+  };
+  const Way way = [&]() -> Way {
+    switch (change) {
+      case interpret::VoiceChange::kSlower:
+        return {&VoiceStyle::rate_steps, -1, "OK, I'll speak more slowly.",
+                "This is as slowly as I can speak."};
+      case interpret::VoiceChange::kFaster:
+        return {&VoiceStyle::rate_steps, 1, "OK, I'll speak faster.",
+                "This is as fast as I can speak."};
+      case interpret::VoiceChange::kLouder:
+        return {&VoiceStyle::volume_steps, 1, "OK, I'll speak louder.",
+                "This is as loud as I can speak."};
+      case interpret::VoiceChange::kQuieter:
+        break;
+    }
+    return {&VoiceStyle::volume_steps, -1, "OK, I'll speak more quietly.",
+            "This is as quietly as I can speak."};
+  }();
+  int& steps = voice_style_.*way.field;
+  if (steps + way.step > kVoiceSteps || steps + way.step < -kVoiceSteps) {
+    say(way.limit);
+    return;
+  }
+  steps += way.step;
+  voice_hook_(voice_style_);
+  say(way.done);
+}
+
 void Manager::handle(std::string_view utterance) {
   join_finished();
   const interpret::Interpreter& interpreter = registry_.interpreter();
@@ -203,6 +241,10 @@ void Manager::handle(std::string_view utterance) {
     }
     default:
       break;
+  }
+  if (std::optional<interpret::VoiceChange> change = interpret::voice_change(utterance)) {
+    change_voice(*change);
+    return;
   }
   std::string busy_with;
   {

@@ -4,7 +4,7 @@
 // For each utterance handle():
 //   1. "stop"/"cancel" always wins: it cancels the running task (its pending question, its
 //      motion, its is_cancelled() flag) and answers "OK.". "repeat" says the last sentence
-//      again.
+//      again. "Speak slower", "louder" change the voice (on_voice_style).
 //   2. While a long task runs, anything else is answered "I'm still busy ..." (one
 //      conversation at a time). The host loop delivers answers to a task's question before
 //      calling handle(), see HostLoop.
@@ -36,6 +36,7 @@
 #include <string>
 #include <thread>
 
+#include "interpret/voice_change.h"
 #include "skills/registry.h"
 #include "skills/user.h"
 
@@ -66,6 +67,20 @@ class Manager : public User {
   void on_stop(std::function<std::string(const std::string& running_skill)> hook) {
     stop_hook_ = std::move(hook);
   }
+  // How Marvin speaks, changed by "speak slower", "louder", "I can't hear you"
+  // (interpret/voice_change.h): steps away from the host's own rate and volume, each within
+  // [-kVoiceSteps, kVoiceSteps]. The hook applies them (the voice host: on its next turn);
+  // without one (typed text) there is no voice to change, and the manager says so. The hook
+  // is called on the host loop's thread. Set before use.
+  struct VoiceStyle {
+    int rate_steps = 0;
+    int volume_steps = 0;
+    bool operator==(const VoiceStyle&) const = default;
+  };
+  static constexpr int kVoiceSteps = 3;
+  void on_voice_style(std::function<void(VoiceStyle)> hook) { voice_hook_ = std::move(hook); }
+  VoiceStyle voice_style() const { return voice_style_; }  // the host loop's thread
+
   // True while a long task runs on the worker.
   bool busy() const;
   // Waits until no long task runs; false if `timeout` passed first.
@@ -86,6 +101,9 @@ class Manager : public User {
 
  private:
   std::function<std::string(const std::string&)> stop_hook_;
+  std::function<void(VoiceStyle)> voice_hook_;
+  VoiceStyle voice_style_;  // the host loop's thread
+  void change_voice(interpret::VoiceChange change);
   bool fill_slots(const IntentDecl& intent, interpret::Match& match, std::string_view utterance);
   bool confirm(const IntentDecl& intent, const interpret::Match& match);
   // "Did you want a reminder or your schedule?": the chosen reading, or nullopt after "no",

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "interpret/interpreter.h"
+#include "interpret/voice_change.h"
 
 using namespace marvin::interpret;
 using namespace date::literals;
@@ -373,4 +374,38 @@ TEST_CASE("matching: a text slot never holds only 'me', 'us' or 'you'") {
   REQUIRE(match);
   CHECK(match->slots.at("name").text == "anna");
   CHECK(match->slots.at("message").text == "dinner is ready");
+}
+
+TEST_CASE("voice changes: speak slower, louder, I can't hear you; not the radio, not walking") {
+  using marvin::interpret::VoiceChange;
+  using marvin::interpret::voice_change;
+  const std::vector<std::pair<const char*, VoiceChange>> asked = {
+      {"speak slower", VoiceChange::kSlower},
+      {"Marvin, can you talk more slowly please?", VoiceChange::kSlower},
+      {"slower", VoiceChange::kSlower},
+      {"you are speaking too fast", VoiceChange::kSlower},
+      {"not so fast", VoiceChange::kSlower},
+      {"speak faster", VoiceChange::kFaster},
+      {"you talk too slowly", VoiceChange::kFaster},
+      {"louder please", VoiceChange::kLouder},
+      {"speak up", VoiceChange::kLouder},
+      {"could you speak a little louder", VoiceChange::kLouder},
+      {"I can't hear you", VoiceChange::kLouder},
+      {"I can hardly hear you", VoiceChange::kLouder},
+      {"your voice is too quiet", VoiceChange::kLouder},
+      {"speak more quietly", VoiceChange::kQuieter},
+      {"you are too loud", VoiceChange::kQuieter},
+  };
+  for (const auto& [text, change] : asked) {
+    const std::string said = text;
+    CAPTURE(said);
+    CHECK(voice_change(text) == change);
+  }
+  for (const char* text : {"turn the radio louder", "walk slower", "slow down", "speak to anna",
+                           "what time is it", "louder and slower", "be quiet", "quiet",
+                           "the music is too loud", "speak", "i can not hear the tv"}) {
+    const std::string said = text;
+    CAPTURE(said);
+    CHECK_FALSE(voice_change(text).has_value());
+  }
 }

@@ -1,12 +1,15 @@
 // The host's grammars from skill manifests and personal data (core/app/voice_grammar.h):
 // contacts and reminders become slot phrases, questions get the grammar of their slot, and
-// a change in contacts changes the grammar. Plain text checks, no speech.
+// a change in contacts changes the grammar. Plain text checks; and, last, what a voice style
+// ("speak slower") does to espeak-ng's output.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "app/voice_grammar.h"
+#include "app/voice_host.h"
 #include "skills/in_memory_personal_data.h"
 #include "support/text.h"
 
@@ -119,4 +122,30 @@ TEST_CASE("command grammar: the places the robot can go to are slot phrases too"
   app::add_place_names(&places, values);
   CHECK(values.text_phrases == std::vector<std::string>{"kitchen", "the kitchen"});
   CHECK(contains(app::command_grammar(phrases(), values, {}).jsgf, "the kitchen"));
+}
+
+TEST_CASE("a voice style: slower speaks the same sentence longer, louder louder; within bounds") {
+  using marvin::app::styled_voice;
+  using Style = marvin::skills::Manager::VoiceStyle;
+  const marvin::perception::SynthesisOptions base;  // 160 wpm, volume 100
+  CHECK(styled_voice(base, Style{-2, 0}).rate_wpm == 120);
+  CHECK(styled_voice(base, Style{0, 3}).volume == 175);
+  CHECK(styled_voice(base, Style{0, -3}).volume == 25);
+  marvin::perception::SynthesisOptions slow_base = base;
+  slow_base.rate_wpm = 90;
+  CHECK(styled_voice(slow_base, Style{-3, 0}).rate_wpm == 80);  // espeak-ng's lowest
+
+  const std::string sentence = "It's five past three in the afternoon.";
+  auto rms = [](const std::vector<std::int16_t>& a) {
+    double sum = 0;
+    for (std::int16_t x : a) sum += double(x) * x;
+    return a.empty() ? 0.0 : std::sqrt(sum / double(a.size()));
+  };
+  const auto normal = marvin::perception::SpeechSynthesizer(base).synthesize(sentence);
+  const auto slower =
+      marvin::perception::SpeechSynthesizer(styled_voice(base, Style{-2, 0})).synthesize(sentence);
+  const auto louder =
+      marvin::perception::SpeechSynthesizer(styled_voice(base, Style{0, 2})).synthesize(sentence);
+  CHECK(double(slower.size()) > 1.15 * double(normal.size()));
+  CHECK(rms(louder) > 1.2 * rms(normal));
 }

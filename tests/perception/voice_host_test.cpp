@@ -302,3 +302,16 @@ TEST_CASE("the carer's web page is served in the voice mode too, and stops befor
   CHECK(std::find(lines.begin(), lines.end(), "You: what time is it") != lines.end());
   CHECK(std::find(lines.begin(), lines.end(), "Marvin: It's 3:05 PM.") != lines.end());
 }
+
+// Last in the file: run before the "marvin, stop" case, making this recording changed how
+// that case's "marvin, stop" came out of espeak-ng in this process (heard as "darker").
+TEST_CASE("\"marvin, speak slower\" by voice: understood, and confirmed") {
+  Recording rec;
+  rec.silence(kAfterGreetingMs).say("marvin, speak slower", 300, 3500);
+  const Result r = run_marvin(kHost, &rec);
+  INFO(transcript(r));
+  CHECK(r.exit_code == 0);
+  CHECK(lines_starting(r, "You: ") == std::vector<std::string>{"You: speak slower"});
+  CHECK(lines_starting(r, "Marvin: ") ==
+        std::vector<std::string>{"Marvin: Hello, I'm Marvin.", "Marvin: OK, I'll speak more slowly."});
+}

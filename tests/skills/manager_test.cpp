@@ -323,6 +323,27 @@ TEST_CASE("no match gets a helpful sentence, never a guess; repeat says it again
   CHECK(d.turn("yes") == Lines{"I wasn't asking anything. What can I do for you?"});
 }
 
+TEST_CASE("speak slower / louder: the hook gets the new style, within bounds; typed, no voice") {
+  Dialogue typed;
+  CHECK(typed.turn("speak slower") ==
+        Lines{"I'm not speaking aloud now, so there is no voice to change."});
+
+  Dialogue d;
+  std::vector<Manager::VoiceStyle> applied;
+  d.manager.on_voice_style([&](Manager::VoiceStyle s) { applied.push_back(s); });
+  CHECK(d.turn("Marvin, could you speak a bit slower please") ==
+        Lines{"OK, I'll speak more slowly."});
+  CHECK(d.turn("I can't hear you") == Lines{"OK, I'll speak louder."});
+  CHECK(d.turn("you're talking too fast") == Lines{"OK, I'll speak more slowly."});
+  CHECK(d.turn("not so loud") == Lines{"OK, I'll speak more quietly."});
+  CHECK(applied == std::vector<Manager::VoiceStyle>{{-1, 0}, {-1, 1}, {-2, 1}, {-2, 0}});
+  CHECK(d.turn("slower") == Lines{"OK, I'll speak more slowly."});
+  CHECK(d.turn("slower") == Lines{"This is as slowly as I can speak."});
+  CHECK(applied.size() == 5);  // the refused step changed nothing
+  CHECK(d.manager.voice_style() == Manager::VoiceStyle{-3, 0});
+  CHECK(d.turn("repeat") == Lines{"This is as slowly as I can speak."});
+}
+
 TEST_CASE("each refusal offers the next skill's example, round and round") {
   Dialogue d;
   const std::string sorry = "Sorry, I don't know how to help with that. You can ask me, for example: ";
