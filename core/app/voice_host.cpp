@@ -205,12 +205,7 @@ VoiceHost::VoiceHost(Host& host, const VoiceHostOptions& options)
 
 VoiceHost::~VoiceHost() = default;
 
-void VoiceHost::apply_voice_style() {
-  std::optional<skills::Manager::VoiceStyle> style;
-  {
-    std::lock_guard lock(mutex_);
-    style.swap(voice_style_);
-  }
+void VoiceHost::apply_voice_style(const std::optional<skills::Manager::VoiceStyle>& style) {
   if (style) synthesizer_.set_options(styled_voice(synthesis_options(options_), *style));
 }
 
@@ -271,6 +266,7 @@ perception::Reply VoiceHost::respond(const perception::Recognition& recognition)
   host_.loop().post(utterance);
   perception::Reply reply;
   std::string question;
+  std::optional<skills::Manager::VoiceStyle> style;
   {
     std::unique_lock lock(mutex_);
     changed_.wait(lock, [&] { return (heard_ >= posted_ && waiting_) || stopping_.load(); });
@@ -281,8 +277,9 @@ perception::Reply VoiceHost::respond(const perception::Recognition& recognition)
     reply.expects_answer = waiting_ == Waiting::kAnswer;
     question_later_ = false;
     question = last_said_;
+    style.swap(voice_style_);
   }
-  apply_voice_style();  // "speak slower": its "OK" already in the new voice
+  apply_voice_style(style);  // "speak slower": its "OK" already in the new voice
   if (reply.expects_answer) reply.answer_grammar = answer_grammar_for(question);
   refresh_grammar(false);  // the turn may have added a contact or a reminder
   return reply;
@@ -293,6 +290,7 @@ void VoiceHost::pump() {
   bool question = false;
   bool skills_changed = false;
   std::string last;
+  std::optional<skills::Manager::VoiceStyle> style;
   {
     std::lock_guard lock(mutex_);
     said.swap(said_);
@@ -300,8 +298,9 @@ void VoiceHost::pump() {
     question_later_ = false;
     skills_changed = phrases_changed_;
     last = last_said_;
+    style.swap(voice_style_);
   }
-  apply_voice_style();
+  apply_voice_style(style);
   for (const std::string& sentence : said) loop_->say(sentence);
   if (skills_changed) refresh_grammar(false);
   if (question) loop_->expect_answer(answer_grammar_for(last));

@@ -121,7 +121,8 @@ class VoiceHost {
   void refresh_grammar(bool force);  // voice thread
   std::string answer_grammar_for(const std::string& question);
   void feed(std::span<const std::int16_t> samples);
-  void apply_voice_style();       // voice thread: a change asked for since the last turn
+  // Voice thread: a style asked for since the last turn (taken from voice_style_), if any.
+  void apply_voice_style(const std::optional<skills::Manager::VoiceStyle>& style);
 
   Host& host_;
   VoiceHostOptions options_;

@@ -25,7 +25,6 @@
 #include <cstdio>
 #include <limits>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -259,27 +258,14 @@ class ScheduleSkill : public marvin::Skill {
       }
     }
     const json created = add_reminder(title, request.slots.at("when"));
-    robot().say("OK, I put " + with_article(second_person(title)) + " on your calendar " +
-                spoken_when(created) + ".");
-  }
-
-  // "appointment" -> "an appointment", "dentist appointment" -> "a dentist appointment"; "your
-  // daughter's visit" and "lunch with Anna" stay as they are.
-  static std::string with_article(const std::string& title) {
-    static const std::set<std::string, std::less<>> countable = {
-        "appointment", "visit", "meeting", "checkup", "lesson", "class", "party", "interview",
-        "operation", "haircut", "session", "test", "scan", "concert", "game", "match", "trip",
-        "flight", "service", "up"};  // "up": "check up"
-    static const std::set<std::string, std::less<>> determiners = {"a", "an", "the", "your", "my",
-                                                                   "his", "her", "our", "their"};
-    const std::vector<std::string> words = words_of(lower(title));
-    if (words.empty() || determiners.contains(words.front())) return title;
-    if (std::none_of(words.begin(), words.end(),
-                     [](const std::string& w) { return countable.contains(w); })) {
-      return title;
+    // A kind is a thing one has one of ("a doctor's appointment"), except meals ("lunch with
+    // Anna"); a visitor's title has its own possessive, a bare task ("physio") none.
+    std::string spoken = second_person(title);
+    if (!kind.empty() && visitor.empty() && kind != "lunch" && kind != "dinner") {
+      spoken = (std::string_view("aeiou").find(spoken.front()) != std::string_view::npos ? "an " : "a ") +
+               spoken;
     }
-    const bool vowel = std::string_view("aeiou").find(words.front().front()) != std::string_view::npos;
-    return (vowel ? "an " : "a ") + title;
+    robot().say("OK, I put " + spoken + " on your calendar " + spoken_when(created) + ".");
   }
 
   static constexpr const char* kAlarmTitle = "time to wake up";

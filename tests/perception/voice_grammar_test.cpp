@@ -4,13 +4,13 @@
 // ("speak slower") does to espeak-ng's output.
 #include <doctest/doctest.h>
 
-#include <cmath>
 #include <string>
 #include <vector>
 
 #include "app/voice_grammar.h"
 #include "app/voice_host.h"
 #include "skills/in_memory_personal_data.h"
+#include "speech_fixture.h"
 #include "support/text.h"
 
 using namespace marvin;
@@ -136,11 +136,7 @@ TEST_CASE("a voice style: slower speaks the same sentence longer, louder louder;
   CHECK(styled_voice(slow_base, Style{-3, 0}).rate_wpm == 80);  // espeak-ng's lowest
 
   const std::string sentence = "It's five past three in the afternoon.";
-  auto rms = [](const std::vector<std::int16_t>& a) {
-    double sum = 0;
-    for (std::int16_t x : a) sum += double(x) * x;
-    return a.empty() ? 0.0 : std::sqrt(sum / double(a.size()));
-  };
+  using marvin::perception::testing::rms;
   const auto normal = marvin::perception::SpeechSynthesizer(base).synthesize(sentence);
   const auto slower =
       marvin::perception::SpeechSynthesizer(styled_voice(base, Style{-2, 0})).synthesize(sentence);
