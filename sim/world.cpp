@@ -365,8 +365,11 @@ World parse_world(const std::string& json_text, const std::filesystem::path& fil
     SmartDevice d;
     d.name = text(devices[i], "name", w);
     d.type = text(devices[i], "type", w);
-    if (d.type != "light" && d.type != "fan" && d.type != "switch")
-      w.fail("'type' \"" + d.type + "\" must be \"light\", \"fan\" or \"switch\"");
+    if (d.type != "light" && d.type != "fan" && d.type != "switch" && d.type != "thermostat")
+      w.fail("'type' \"" + d.type + "\" must be \"light\", \"fan\", \"switch\" or \"thermostat\"");
+    if (devices[i].contains("temperature") &&
+        (d.type != "thermostat" || !devices[i]["temperature"].is_number()))
+      w.fail("'temperature' must be a number, on a thermostat (the room's, in degrees Celsius)");
     d.room = room_field(devices[i], "room", world.map, w, true);
     if (devices[i].contains("dimmable") && !devices[i]["dimmable"].is_boolean())
       w.fail("'dimmable' must be true or false");

@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
   int failed = 0;
   for (int i = 0; i < rounds + 20; ++i) {
     auto t0 = Clock::now();
-    bool ok = home.set(kitchen, DeviceCommand{i % 2 == 0, {}, {}}).outcome ==
+    bool ok = home.set(kitchen, DeviceCommand{i % 2 == 0, {}, {}, {}}).outcome ==
               HomeService::Outcome::kConfirmed;
     double c = ms_since(t0);
     t0 = Clock::now();
@@ -172,7 +172,7 @@ int main(int argc, char** argv) {
     home.wait_connected(std::chrono::seconds(30));
     connected_ms.push_back(ms_since(t0));
     // The simulator reconnects too; the first command that is confirmed again.
-    while (home.set(kitchen, DeviceCommand{i % 2 == 0, {}, {}}, std::chrono::milliseconds(200))
+    while (home.set(kitchen, DeviceCommand{i % 2 == 0, {}, {}, {}}, std::chrono::milliseconds(200))
                    .outcome != HomeService::Outcome::kConfirmed &&
            ms_since(t0) < 30000) {
     }

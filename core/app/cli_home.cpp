@@ -85,6 +85,10 @@ void list_devices(const DevicesOptions& o) {
                                            : "off";
     if (d.state.on == true && d.dimmable && d.state.brightness_pct)
       state += " " + std::to_string(*d.state.brightness_pct) + "%";
+    if (d.type == home::DeviceType::kThermostat && d.state.target_c)
+      state += ", set to " + home::celsius_text(*d.state.target_c) + " °C";
+    if (d.type == home::DeviceType::kThermostat && d.state.current_c)
+      state += ", measures " + home::celsius_text(*d.state.current_c) + " °C";
     std::string line = d.name + " (" + home::type_name(d.type) + (d.dimmable ? ", dimmable" : "") +
                        ") in " + (d.room.empty() ? std::string("no room") : d.room) + ": " + state +
                        " [" + d.id + "]";

@@ -16,6 +16,13 @@ json device_json(const home::Device& d) {
            {"available", d.state.available},
            {"on", d.state.on ? json(*d.state.on) : json()},
            {"brightness", d.state.brightness_pct ? json(*d.state.brightness_pct) : json()}};
+  if (d.type == home::DeviceType::kThermostat) {
+    out["target_temperature"] = d.state.target_c ? json(*d.state.target_c) : json();
+    out["temperature"] = d.state.current_c ? json(*d.state.current_c) : json();
+    out["min_temperature"] = d.protocol.min_c;
+    out["max_temperature"] = d.protocol.max_c;
+    out["switchable"] = !d.protocol.heat_mode.empty();
+  }
   return out;
 }
 
@@ -44,7 +51,30 @@ skills::SmartHome::Reply HomeLink::set(const std::string& device, const json& st
   }
   const home::Device& d = found.front();
   home::DeviceCommand command;
-  if (state.contains("on")) command.on = state["on"].get<bool>();
+  const bool thermostat = d.type == home::DeviceType::kThermostat;
+  if (state.contains("on")) {
+    if (thermostat && d.protocol.heat_mode.empty()) {
+      reply.result = Result::kInvalid;
+      reply.sentence = "the " + d.name + " cannot be switched on or off, only set to a temperature";
+      return reply;
+    }
+    command.on = state["on"].get<bool>();
+  }
+  if (state.contains("target_temperature")) {
+    const double target = state["target_temperature"].get<double>();
+    if (!thermostat) {
+      reply.result = Result::kInvalid;
+      reply.sentence = "the " + d.name + " is not a thermostat";
+      return reply;
+    }
+    if (target < d.protocol.min_c || target > d.protocol.max_c) {
+      reply.result = Result::kInvalid;
+      reply.sentence = "the " + d.name + " can be set from " + home::celsius_text(d.protocol.min_c) +
+                       " to " + home::celsius_text(d.protocol.max_c) + " degrees";
+      return reply;
+    }
+    command.target_c = target;
+  }
   if (state.contains("brightness")) {
     if (!d.dimmable) {
       reply.result = Result::kInvalid;

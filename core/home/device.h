@@ -10,14 +10,18 @@
 
 namespace marvin::home {
 
-enum class DeviceType { kLight, kSwitch, kFan };
-const char* type_name(DeviceType type);  // "light", "switch", "fan"
+enum class DeviceType { kLight, kSwitch, kFan, kThermostat };
+const char* type_name(DeviceType type);  // "light", "switch", "fan", "thermostat"
 
 // What the device reported last (not what was asked of it).
 struct DeviceState {
   std::optional<bool> on;
   std::optional<int> brightness_pct;  // 0..100, dimmable lights only
   std::optional<int> color_temp;      // mireds, as reported
+  // Thermostats: "on" is heating (any mode but off); the temperature asked for and the one
+  // the thermostat measures, in degrees Celsius.
+  std::optional<double> target_c;
+  std::optional<double> current_c;
   bool available = true;              // false while its availability topic says offline
   std::uint64_t reports = 0;          // bumped on every state report
 };
@@ -38,6 +42,14 @@ struct DeviceProtocol {
   std::string brightness_command_topic;                // kHaDefault
   std::string brightness_state_topic;                  // kHaDefault
   int brightness_max = 255;                            // the device's full brightness
+  // Thermostats. Zigbee2MQTT: the set point's property ("occupied_heating_setpoint" or a
+  // radiator valve's "current_heating_setpoint"). Home Assistant (plain payloads): the set
+  // point's and the measured temperature's topics; `command_topic`/`state_topic` carry the
+  // mode ("heat", "off").
+  std::string setpoint_property;
+  std::string setpoint_command_topic, setpoint_state_topic, current_temperature_topic;
+  std::string heat_mode = "heat";     // the mode that means "on"
+  double min_c = 5.0, max_c = 30.0;   // the set point's range
   std::string available_payload = "online", unavailable_payload = "offline";
 };
 
@@ -59,6 +71,7 @@ struct DeviceCommand {
   std::optional<bool> on;
   std::optional<int> brightness_pct;  // 0..100
   std::optional<int> color_temp;      // mireds
+  std::optional<double> target_c;     // thermostats: the set point, within min_c..max_c
 };
 
 // The messages that carry `command` to `device`: (topic, payload) pairs.

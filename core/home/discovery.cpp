@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 namespace marvin::home {
 namespace {
@@ -57,6 +58,66 @@ std::optional<bool> on_of(const std::string& text, const std::string& on, const 
   return std::nullopt;
 }
 
+// A number member under its full or abbreviated key; `fallback` if absent.
+double number(const json& object, const char* key, const char* abbreviation, double fallback) {
+  for (const char* k : {key, abbreviation}) {
+    if (!k) continue;
+    auto it = object.find(k);
+    if (it == object.end() || it->is_null()) continue;
+    if (!it->is_number()) {
+      throw DiscoveryError(std::string("\"") + k + "\" must be a number, got " + it->dump());
+    }
+    return it->get<double>();
+  }
+  return fallback;
+}
+
+// The mode that means "heating on" among a thermostat's modes: "heat", else the first one
+// that is not "off"; "" when it has none (it cannot be switched off, only set).
+std::string heat_mode_of(const json& modes) {
+  if (!modes.is_array()) return "";
+  std::string first;
+  for (const json& m : modes) {
+    if (!m.is_string()) continue;
+    if (m == "heat") return "heat";
+    if (first.empty() && m != "off") first = m.get<std::string>();
+  }
+  return first;
+}
+
+// A plain temperature payload ("21.5"); nullopt if it is not one.
+std::optional<double> celsius_of(std::string_view payload) {
+  std::string text(payload);
+  char* end = nullptr;
+  double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
+// A Home Assistant "climate": the mode on the command/state topics, the set point and the
+// measured temperature on their own (plain payloads, no templates).
+void read_ha_climate(const json& config, const std::string& base, Device* d) {
+  DeviceProtocol& p = d->protocol;
+  p.dialect = DeviceProtocol::Dialect::kHaDefault;
+  p.setpoint_command_topic = expand(member(config, "temperature_command_topic", "temp_cmd_t"), base);
+  if (p.setpoint_command_topic.empty())
+    throw DiscoveryError("\"temperature_command_topic\" is missing");
+  p.setpoint_state_topic = expand(member(config, "temperature_state_topic", "temp_stat_t"), base);
+  p.current_temperature_topic =
+      expand(member(config, "current_temperature_topic", "curr_temp_t"), base);
+  p.command_topic = expand(member(config, "mode_command_topic", "mode_cmd_t"), base);
+  p.state_topic = expand(member(config, "mode_state_topic", "mode_stat_t"), base);
+  auto modes = config.find("modes");
+  // Home Assistant's default modes are auto, off, cool, heat, dry and fan_only.
+  p.heat_mode = modes == config.end() ? "heat" : heat_mode_of(*modes);
+  if (p.command_topic.empty()) p.heat_mode.clear();
+  p.payload_on = p.heat_mode;
+  p.payload_off = "off";
+  p.min_c = number(config, "min_temp", nullptr, 7.0);
+  p.max_c = number(config, "max_temp", nullptr, 35.0);
+  if (p.min_c >= p.max_c) throw DiscoveryError("\"min_temp\" must be below \"max_temp\"");
+}
+
 }  // namespace
 
 const char* type_name(DeviceType type) {
@@ -67,8 +128,19 @@ const char* type_name(DeviceType type) {
       return "switch";
     case DeviceType::kFan:
       return "fan";
+    case DeviceType::kThermostat:
+      return "thermostat";
   }
   return "light";
+}
+
+// (skills-builtin/home/heating.h says temperatures the same way on the skill's side of the
+// Robot API.)
+std::string celsius_text(double value) {
+  const long tenths = std::lround(value * 10.0);
+  std::string out = (tenths < 0 ? "-" : "") + std::to_string(std::labs(tenths) / 10);
+  if (tenths % 10 != 0) out += "." + std::to_string(std::labs(tenths) % 10);
+  return out;
 }
 
 std::string lower(std::string_view text) {
@@ -100,11 +172,30 @@ bool parse_ha_config_topic(std::string_view prefix, std::string_view topic, std:
     rest = rest.substr(slash + 1);
   }
   if (parts.size() < 3 || parts.size() > 4 || parts.back() != "config") return false;
-  if (parts[0] != "light" && parts[0] != "switch" && parts[0] != "fan") return false;
+  if (parts[0] != "light" && parts[0] != "switch" && parts[0] != "fan" && parts[0] != "climate")
+    return false;
   *component = parts[0];
   *object_id = parts.size() == 4 ? parts[1] + "/" + parts[2] : parts[1];
   return true;
 }
+
+namespace {
+
+// The config's name, else its device's, else the object id; `room` (lower case) from the
+// device's suggested area.
+std::string device_name(const json& config, std::string_view object_id, std::string* room) {
+  std::string name = member(config, "name");
+  for (const char* key : {"device", "dev"}) {
+    auto it = config.find(key);
+    if (it == config.end()) continue;
+    if (!it->is_object()) throw DiscoveryError(std::string("\"") + key + "\" must be an object");
+    if (name.empty()) name = member(*it, "name");
+    *room = lower(member(*it, "suggested_area", "sa"));
+  }
+  return name.empty() ? std::string(object_id) : name;
+}
+
+}  // namespace
 
 Device parse_ha_config(std::string_view component, std::string_view object_id,
                        std::string_view payload) {
@@ -115,12 +206,15 @@ Device parse_ha_config(std::string_view component, std::string_view object_id,
   if (!config.is_object()) throw DiscoveryError("the discovery config must be a JSON object");
   d.type = component == "light"    ? DeviceType::kLight
            : component == "switch" ? DeviceType::kSwitch
-                                   : DeviceType::kFan;
+           : component == "fan"    ? DeviceType::kFan
+                                   : DeviceType::kThermostat;
   const std::string base = member(config, "~");
   DeviceProtocol& p = d.protocol;
-  p.command_topic = expand(member(config, "command_topic", "cmd_t"), base);
-  if (p.command_topic.empty()) throw DiscoveryError("\"command_topic\" is missing");
-  p.state_topic = expand(member(config, "state_topic", "stat_t"), base);
+  if (d.type != DeviceType::kThermostat) {
+    p.command_topic = expand(member(config, "command_topic", "cmd_t"), base);
+    if (p.command_topic.empty()) throw DiscoveryError("\"command_topic\" is missing");
+    p.state_topic = expand(member(config, "state_topic", "stat_t"), base);
+  }
   p.availability_topic = expand(member(config, "availability_topic", "avty_t"), base);
   if (p.availability_topic.empty()) {
     for (const char* key : {"availability", "avty"}) {
@@ -134,6 +228,11 @@ Device parse_ha_config(std::string_view component, std::string_view object_id,
     p.available_payload = v;
   if (std::string v = member(config, "payload_not_available", "pl_not_avail"); !v.empty())
     p.unavailable_payload = v;
+  if (d.type == DeviceType::kThermostat) {
+    read_ha_climate(config, base, &d);
+    d.name = lower(device_name(config, object_id, &d.room));
+    return d;
+  }
   const bool json_schema = member(config, "schema") == "json";
   p.dialect = json_schema ? DeviceProtocol::Dialect::kHaJson : DeviceProtocol::Dialect::kHaDefault;
   if (std::string v = member(config, "payload_on", "pl_on"); !v.empty()) p.payload_on = v;
@@ -168,20 +267,40 @@ Device parse_ha_config(std::string_view component, std::string_view object_id,
     p.brightness_state_topic = expand(member(config, "brightness_state_topic", "bri_stat_t"), base);
     d.dimmable = d.type == DeviceType::kLight && !p.brightness_command_topic.empty();
   }
-  std::string name = member(config, "name");
-  std::string room;
-  for (const char* key : {"device", "dev"}) {
-    auto it = config.find(key);
-    if (it == config.end()) continue;
-    if (!it->is_object()) throw DiscoveryError(std::string("\"") + key + "\" must be an object");
-    if (name.empty()) name = member(*it, "name");
-    room = member(*it, "suggested_area", "sa");
-  }
-  if (name.empty()) name = std::string(object_id);
-  d.name = lower(name);
-  d.room = lower(room);
+  d.name = lower(device_name(config, object_id, &d.room));
   return d;
 }
+
+namespace {
+
+// A Zigbee2MQTT "climate" expose: which property is the set point (and its range), and the
+// system mode's values. No set point: `setpoint_property` stays empty.
+void read_z2m_climate(const json& features, DeviceProtocol* p) {
+  p->heat_mode.clear();
+  for (const json& f : features) {
+    if (!f.is_object()) continue;
+    const std::string name = member(f, "name");
+    if (name == "occupied_heating_setpoint" || name == "current_heating_setpoint") {
+      // A valve that has both: the occupied set point is the one its schedule follows.
+      if (p->setpoint_property == "occupied_heating_setpoint") continue;
+      p->setpoint_property = name;
+      // As for a light's brightness range: a range that is not one is left at the default,
+      // so one odd device does not cost the whole list.
+      auto bound = [&](const char* key, double fallback) {
+        auto it = f.find(key);
+        return it != f.end() && it->is_number() ? it->get<double>() : fallback;
+      };
+      p->min_c = bound("value_min", 5.0);
+      p->max_c = bound("value_max", 30.0);
+      if (p->min_c >= p->max_c) std::tie(p->min_c, p->max_c) = std::pair(5.0, 30.0);
+    } else if (name == "system_mode") {
+      auto values = f.find("values");
+      if (values != f.end()) p->heat_mode = heat_mode_of(*values);
+    }
+  }
+}
+
+}  // namespace
 
 std::vector<Device> parse_z2m_devices(std::string_view base_topic, std::string_view payload) {
   json list = parse(payload, "the device list");
@@ -203,13 +322,19 @@ std::vector<Device> parse_z2m_devices(std::string_view base_topic, std::string_v
     for (const json& e : *exposes) {
       if (!e.is_object()) continue;
       std::string type = member(e, "type");
-      if (type != "light" && type != "switch" && type != "fan") continue;
+      if (type != "light" && type != "switch" && type != "fan" && type != "climate") continue;
       controllable = true;
-      d.type = type == "light" ? DeviceType::kLight
-               : type == "fan" ? DeviceType::kFan
-                               : DeviceType::kSwitch;
+      d.type = type == "light"     ? DeviceType::kLight
+               : type == "fan"     ? DeviceType::kFan
+               : type == "climate" ? DeviceType::kThermostat
+                                   : DeviceType::kSwitch;
       auto features = e.find("features");
       if (features == e.end() || !features->is_array()) continue;
+      if (d.type == DeviceType::kThermostat) {
+        read_z2m_climate(*features, &d.protocol);
+        if (d.protocol.setpoint_property.empty()) controllable = false;  // nothing to set
+        continue;
+      }
       for (const json& f : *features) {
         if (!f.is_object()) continue;
         std::string name = member(f, "name");
@@ -250,6 +375,24 @@ std::vector<Device> parse_z2m_devices(std::string_view base_topic, std::string_v
 bool apply_state(const Device& device, std::string_view topic, std::string_view payload,
                  DeviceState* state) {
   const DeviceProtocol& p = device.protocol;
+  const bool thermostat = device.type == DeviceType::kThermostat;
+  if (thermostat && p.dialect == DeviceProtocol::Dialect::kHaDefault) {
+    std::optional<double> value;
+    if (topic == p.state_topic && !p.state_topic.empty()) {
+      if (payload.empty()) return false;
+      state->on = payload != "off";  // heat, auto, cool...: the thermostat is working
+    } else if (topic == p.setpoint_state_topic && !p.setpoint_state_topic.empty()) {
+      if (!(value = celsius_of(payload))) return false;
+      state->target_c = value;
+    } else if (topic == p.current_temperature_topic && !p.current_temperature_topic.empty()) {
+      if (!(value = celsius_of(payload))) return false;
+      state->current_c = value;
+    } else {
+      return false;
+    }
+    ++state->reports;
+    return true;
+  }
   if (p.dialect == DeviceProtocol::Dialect::kHaDefault) {
     if (topic == p.state_topic) {
       std::optional<bool> on = on_of(std::string(payload), p.state_on, p.state_off);
@@ -290,6 +433,20 @@ bool apply_state(const Device& device, std::string_view topic, std::string_view 
     state->color_temp = it->get<int>();
     any = true;
   }
+  if (thermostat) {
+    if (auto it = report.find(p.setpoint_property); it != report.end() && it->is_number()) {
+      state->target_c = it->get<double>();
+      any = true;
+    }
+    if (auto it = report.find("local_temperature"); it != report.end() && it->is_number()) {
+      state->current_c = it->get<double>();
+      any = true;
+    }
+    if (auto it = report.find("system_mode"); it != report.end() && it->is_string()) {
+      state->on = it->get<std::string>() != "off";
+      any = true;
+    }
+  }
   if (any) ++state->reports;
   return any;
 }
@@ -320,6 +477,24 @@ std::vector<std::pair<std::string, std::string>> command_messages(const Device& 
                                                                   const DeviceCommand& command) {
   const DeviceProtocol& p = device.protocol;
   std::vector<std::pair<std::string, std::string>> out;
+  const bool thermostat = device.type == DeviceType::kThermostat;
+  if (thermostat) {
+    // The mode first: a set point sent to a thermostat that is off may be dropped.
+    const bool modes = !p.heat_mode.empty();
+    const std::optional<double> target =
+        command.target_c ? std::optional(std::clamp(*command.target_c, p.min_c, p.max_c))
+                         : std::nullopt;
+    if (p.dialect == DeviceProtocol::Dialect::kHaDefault) {
+      if (command.on && modes) out.emplace_back(p.command_topic, *command.on ? p.heat_mode : "off");
+      if (target) out.emplace_back(p.setpoint_command_topic, celsius_text(*target));
+      return out;
+    }
+    json body = json::object();
+    if (command.on && modes) body["system_mode"] = *command.on ? p.heat_mode : "off";
+    if (target) body[p.setpoint_property] = static_cast<double>(std::lround(*target * 10.0)) / 10.0;
+    if (!body.empty()) out.emplace_back(p.command_topic, body.dump());
+    return out;
+  }
   if (p.dialect == DeviceProtocol::Dialect::kHaDefault) {
     if (command.on) out.emplace_back(p.command_topic, *command.on ? p.payload_on : p.payload_off);
     if (command.brightness_pct && !p.brightness_command_topic.empty()) {
@@ -346,6 +521,8 @@ bool state_matches(const DeviceState& state, const DeviceCommand& command) {
   }
   if (command.brightness_pct && !state.brightness_pct && !command.on) return false;
   if (command.color_temp && state.color_temp != command.color_temp) return false;
+  if (command.target_c && (!state.target_c || std::abs(*state.target_c - *command.target_c) > 0.05))
+    return false;
   return true;
 }
 

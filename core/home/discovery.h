@@ -45,5 +45,7 @@ bool apply_state(const Device& device, std::string_view topic, std::string_view 
 bool apply_availability(const Device& device, std::string_view payload, DeviceState* state);
 
 std::string lower(std::string_view text);
+// A temperature as a thermostat is sent it and a person reads it: "21", "21.5", "-2".
+std::string celsius_text(double value);
 
 }  // namespace marvin::home

@@ -240,8 +240,10 @@ void HomeService::add_devices(std::vector<Device> found, const std::string& sour
   for (Device& d : found) {
     if (d.name.empty()) continue;
     if (auto k = kept.find(d.id); k != kept.end()) d.state = k->second;
-    for (const std::string* t : {&d.protocol.state_topic, &d.protocol.availability_topic,
-                                 &d.protocol.brightness_state_topic}) {
+    for (const std::string* t :
+         {&d.protocol.state_topic, &d.protocol.availability_topic,
+          &d.protocol.brightness_state_topic, &d.protocol.setpoint_state_topic,
+          &d.protocol.current_temperature_topic}) {
       if (t->empty()) continue;
       std::vector<std::string>& route = routes_[*t];
       if (std::find(route.begin(), route.end(), d.id) == route.end()) route.push_back(d.id);

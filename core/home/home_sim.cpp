@@ -1,6 +1,7 @@
 #include "home/home_sim.h"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -39,9 +40,16 @@ std::vector<SimDevice> load_world_devices(const std::filesystem::path& world) {
       }
       *target = d[key].get<std::string>();
     }
-    if (s.type != "light" && s.type != "switch" && s.type != "fan") {
-      throw std::runtime_error(path + ".type must be light, switch or fan, got \"" + s.type + "\"");
+    if (s.type != "light" && s.type != "switch" && s.type != "fan" && s.type != "thermostat") {
+      throw std::runtime_error(path + ".type must be light, switch, fan or thermostat, got \"" +
+                               s.type + "\"");
     }
+    if (d.contains("temperature")) {
+      if (!d["temperature"].is_number() || s.type != "thermostat")
+        throw std::runtime_error(path + ".temperature must be a number, on a thermostat");
+      s.temperature = d["temperature"].get<double>();
+    }
+    s.on = s.type == "thermostat";  // heating, at its set point
     if (d.contains("dimmable")) {
       if (!d["dimmable"].is_boolean())
         throw std::runtime_error(path + ".dimmable must be true or false");
@@ -57,6 +65,13 @@ HomeSimulator::HomeSimulator(std::vector<SimDevice> devices, std::string base,
     : devices_(std::move(devices)), base_(std::move(base)), mute_(std::move(mute)) {}
 
 std::string HomeSimulator::state_json(const SimDevice& d) const {
+  if (d.type == "thermostat") {
+    return json{{"occupied_heating_setpoint", d.setpoint},
+                {"local_temperature", d.temperature},
+                {"system_mode", d.on ? "heat" : "off"},
+                {"linkquality", 120}}
+        .dump();
+  }
   json state{{"state", d.on ? "ON" : "OFF"}, {"linkquality", 120}};
   if (d.dimmable) {
     state["brightness"] = d.brightness;
@@ -89,6 +104,24 @@ std::string HomeSimulator::devices_json() const {
                           {"value_min", 150},
                           {"value_max", 500}});
     }
+    if (d.type == "thermostat") {
+      features = json::array({{{"name", "occupied_heating_setpoint"},
+                               {"property", "occupied_heating_setpoint"},
+                               {"type", "numeric"},
+                               {"unit", "°C"},
+                               {"value_min", 5},
+                               {"value_max", 30},
+                               {"value_step", 0.5}},
+                              {{"name", "local_temperature"},
+                               {"property", "local_temperature"},
+                               {"type", "numeric"},
+                               {"unit", "°C"}},
+                              {{"name", "system_mode"},
+                               {"property", "system_mode"},
+                               {"type", "enum"},
+                               {"values", {"off", "heat"}}}});
+    }
+    const std::string expose = d.type == "thermostat" ? "climate" : d.type;
     char ieee[32];
     std::snprintf(ieee, sizeof ieee, "0x00158d00%08x", n++);
     list.push_back({{"friendly_name", friendly_name(d)},
@@ -100,7 +133,7 @@ std::string HomeSimulator::devices_json() const {
                      {{"model", "SIM-" + d.type},
                       {"vendor", "Marvin"},
                       {"description", "simulated " + d.type},
-                      {"exposes", json::array({{{"type", d.type}, {"features", features}}})}}}});
+                      {"exposes", json::array({{{"type", expose}, {"features", features}}})}}}});
   }
   return list.dump();
 }
@@ -133,6 +166,17 @@ std::vector<std::pair<std::string, std::string>> HomeSimulator::handle(
         return out;
       }
       if (!command.is_object()) return out;
+      if (d.type == "thermostat") {
+        if (auto it = command.find("occupied_heating_setpoint"); it != command.end() && it->is_number())
+          d.setpoint = std::clamp(std::round(it->get<double>() * 2.0) / 2.0, 5.0, 30.0);
+        if (auto it = command.find("system_mode"); it != command.end() && it->is_string())
+          d.on = it->get<std::string>() != "off";
+        std::ostringstream line;
+        line << d.name << ": " << (d.on ? "heat " : "off ") << d.setpoint;
+        lines->push_back(line.str());
+        out.emplace_back(t, state_json(d));
+        return out;
+      }
       if (auto it = command.find("state"); it != command.end() && it->is_string()) {
         std::string s = it->get<std::string>();
         std::transform(s.begin(), s.end(), s.begin(), ::toupper);

@@ -1,11 +1,14 @@
 // marvin-home-sim: devices that behave like Zigbee2MQTT's, for `scripts/sim` and the tests.
 //
-// It reads only the "devices" array of a world file ([{"name", "type": light|switch|fan,
-// "room", "dimmable"?}]) and, on the broker, publishes what Zigbee2MQTT would (retained):
+// It reads only the "devices" array of a world file ([{"name", "type":
+// light|switch|fan|thermostat, "room", "dimmable"?, "temperature"? (a thermostat's room, °C)}])
+// and, on the broker, publishes what Zigbee2MQTT would (retained):
 // <base>/bridge/devices (friendly names "<room>/<name>"), each device's state on
 // <base>/<friendly name> and "online" on <base>/<friendly name>/availability. It carries out
 // <base>/<friendly name>/set ({"state": ON|OFF|TOGGLE, "brightness": 0..254, "color_temp"})
-// and answers <base>/<friendly name>/get with the state. Everything is published again after
+// and answers <base>/<friendly name>/get with the state. A thermostat is a Zigbee2MQTT
+// "climate" device: {"occupied_heating_setpoint": 5..30, "system_mode": "heat"|"off",
+// "local_temperature"} (the room's temperature stays what the world file says). Everything is published again after
 // a reconnect (a broker restarted without persistence has lost the retained messages).
 //
 // Each state change is also printed on stdout, one line: `kitchen light: ON 254`, after
@@ -25,12 +28,14 @@ namespace marvin::home {
 
 struct SimDevice {
   std::string name;
-  std::string type;  // light, switch, fan
+  std::string type;  // light, switch, fan, thermostat
   std::string room;
   bool dimmable = false;
   bool on = false;
   int brightness = 254;
   int color_temp = 300;
+  double setpoint = 20.0;     // thermostats
+  double temperature = 19.5;  // thermostats: the room's, as measured
 };
 
 // The devices of a world file. Throws std::runtime_error naming the file and the field.

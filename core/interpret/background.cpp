@@ -7,6 +7,15 @@ namespace marvin::interpret {
 const std::vector<std::string>& background_sentences() {
   static const std::vector<std::string> sentences{
       "what is the weather going to be like tomorrow",
+      "what will the temperature be on sunday",
+      "how cold was it last night",
+      "is it going to be warm next week",
+      "how hot will it get this afternoon",
+      "what's the temperature going to be tonight",
+      "what temperature will it be on friday",
+      "how cold will it get tomorrow morning",
+      "tell me the temperature for the weekend",
+      "tell me tomorrow's temperature in berlin",
       "will it rain this afternoon",
       "how hot is it outside",
       "do i need an umbrella today",
@@ -160,7 +169,6 @@ const std::vector<std::string>& background_sentences() {
       "find cheap car insurance",
       "how do i cancel my gym membership",
       "cancel my netflix subscription",
-      "what's the temperature inside",
       "is my credit card bill due",
       "when is the next full moon",
       "what holidays are coming up",

@@ -483,8 +483,8 @@ marvin_status api_smarthome_set(marvin_host* host, const char* device, const cha
     }
     if (!wanted.is_object() || wanted.empty()) {
       return fail(c, MARVIN_ERR_INVALID,
-                  "state must be \"on\", \"off\" or an object with \"on\" and/or "
-                  "\"brightness\"");
+                  "state must be \"on\", \"off\" or an object with \"on\", "
+                  "\"brightness\" and/or \"target_temperature\"");
     }
     for (auto it = wanted.begin(); it != wanted.end(); ++it) {
       if (it.key() == "on" && it->is_boolean()) continue;
@@ -492,9 +492,14 @@ marvin_status api_smarthome_set(marvin_host* host, const char* device, const cha
           it->get<int>() <= 100) {
         continue;
       }
+      // The thermostat's own range is checked by the smart home (it knows the device).
+      if (it.key() == "target_temperature" && it->is_number() && it->get<double>() > -50.0 &&
+          it->get<double>() < 100.0) {
+        continue;
+      }
       return fail(c, MARVIN_ERR_INVALID,
-                  "state." + it.key() + ": expected \"on\": true|false or \"brightness\": "
-                  "0..100, got " + it->dump());
+                  "state." + it.key() + ": expected \"on\": true|false, \"brightness\": "
+                  "0..100 or \"target_temperature\": degrees Celsius, got " + it->dump());
     }
     SmartHome::Reply reply = c.services().smarthome->set(device, wanted);
     switch (reply.result) {

@@ -153,7 +153,13 @@ ApiResponse Api::devices(const ApiRequest& r, const std::string& id) {
         throw ApiError(400, "field 'brightness': expected a whole number 0..100 (percent)");
       state["brightness"] = b->get<int>();
     }
-    if (state.empty()) throw ApiError(400, "field 'on': missing (or give 'brightness')");
+    if (auto t = doc.find("target_temperature"); t != doc.end() && !t->is_null()) {
+      if (!t->is_number() || t->get<double>() <= -50.0 || t->get<double>() >= 100.0)
+        throw ApiError(400, "field 'target_temperature': expected degrees Celsius (a number)");
+      state["target_temperature"] = t->get<double>();
+    }
+    if (state.empty())
+      throw ApiError(400, "field 'on': missing (or give 'brightness' or 'target_temperature')");
     const skills::SmartHome::Reply reply = home->set(id, state);
     switch (reply.result) {
       case skills::SmartHome::Result::kDone:

@@ -321,7 +321,14 @@ skills::SmartHome::Reply FakeHome::set(const std::string& device, const nlohmann
     reply.device = *found;
     return reply;
   }
+  if (state.contains("target_temperature") && found->value("type", "") != "thermostat") {
+    reply.result = Result::kInvalid;
+    reply.sentence = "the " + (*found)["name"].get<std::string>() + " is not a thermostat";
+    return reply;
+  }
   if (state.contains("on")) (*found)["on"] = state["on"];
+  if (state.contains("target_temperature"))
+    (*found)["target_temperature"] = state["target_temperature"];
   if (state.contains("brightness")) (*found)["brightness"] = state["brightness"];
   reply.device = *found;
   return reply;

@@ -1,9 +1,13 @@
-// Built-in skill "home": lights, fans and switches of the home by voice, through the Robot
-// API's smarthome_devices and smarthome_set (API 1.2).
+// Built-in skill "home": lights, fans, switches and the heating by voice, through the Robot
+// API's smarthome_devices and smarthome_set (API 1.2; thermostats since 1.6).
 //   "turn on the bedroom light"            "switch off the fan"
 //   "dim the living room lights to 30 percent"   "make it brighter"
 //   "is the kitchen light on?"             "turn everything off in the bedroom"
 //   "turn off all the lights" (every room) "turn everything off in the house"
+//   "I'm cold" / "make it cooler in the bedroom" (the set point a degree up or down)
+//   "set the heating to 21 degrees"        "what's the temperature in here?"
+// "Everything off" leaves thermostats alone: a person who is cold at night must not find
+// the heating switched off by a sentence about the lights; "turn off the heating" does it.
 // The device comes from the room named (or the room the robot is in) and the name; when
 // that leaves several, the skill asks ("The hall light or the bedroom light?"). Every
 // "it's on" is said after the device itself reported it (smarthome_set returns then);
@@ -13,16 +17,21 @@
 #include <cctype>
 #include <marvin/skill.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "common/spoken_text.h"
+#include "heating.h"
 #include "resolve.h"
 
 namespace {
 
 using marvin::builtin::capital;
 
+using marvin_home_skill::about_heating;
+using marvin_home_skill::degrees;
+using marvin_home_skill::is_thermostat;
 using marvin_home_skill::Resolution;
 using nlohmann::json;
 
@@ -59,20 +68,29 @@ class HomeSkill : public marvin::Skill {
     if (intent == "turn_on" || intent == "turn_off") {
       return switch_devices(*home, text("device"), intent == "turn_on");
     }
+    // The sentence shapes of light and heat are alike ("turn up the heating", "set the
+    // heating to 21"): the words about warmth decide.
+    const bool heating =
+        about_heating(request.utterance) || !last_thermostats(*home, text("device")).empty();
     if (intent == "set_level") {
       int level = request.slots.value("level", -1);
+      if (heating) return set_temperature(*home, text("device"), level);
       return set_level(*home, text("device"), level);
     }
+    if (intent == "warmer" || intent == "cooler") {
+      return change_warmth(*home, text("room"), intent == "warmer");
+    }
     if (intent == "brighter" || intent == "dimmer") {
+      if (heating) return change_warmth(*home, text("device"), intent == "brighter");
       return step(*home, text("device"), intent == "brighter" ? kStep : -kStep);
     }
+    if (intent == "temperature") return temperature(*home, text("room"));
     if (intent == "query") {
-      // Lights, fans and switches say on, off and how bright; none of them is a thermometer.
-      if (asks_temperature(request.utterance)) {
-        robot().say("Sorry, I can't tell the temperature: none of your devices measures it.");
-        return;
-      }
-      return query(*home, text("device"));
+      // "is the heating on in the bedroom": the room said after the state.
+      std::string device = text("device");
+      if (!text("room").empty()) device += " in the " + text("room");
+      if (asks_temperature(request.utterance)) return temperature(*home, device);
+      return query(*home, device, yes_no_question(request.utterance));
     }
     if (intent == "all_off") return all_off(*home, text("room"));
   }
@@ -125,6 +143,7 @@ class HomeSkill : public marvin::Skill {
       for (std::size_t i : a.matches) {
         if (std::find(shown.begin(), shown.end(), i) != shown.end()) both.push_back(i);
       }
+      if (both.size() != 1) both = in_room_named(devices, shown, answer);
       if (both.size() != 1) {
         robot().say("Sorry, I still don't know which one you mean.");
         return {};
@@ -133,6 +152,20 @@ class HomeSkill : public marvin::Skill {
     }
     std::vector<json> out;
     for (std::size_t i : r.matches) out.push_back(devices[i]);
+    return out;
+  }
+
+  // Of the devices `shown`, those whose room `answer` names ("the one in the bedroom",
+  // "make it warmer in the living room").
+  static std::vector<std::size_t> in_room_named(const json& devices,
+                                                const std::vector<std::size_t>& shown,
+                                                const std::string& answer) {
+    const std::string said = " " + marvin_home_skill::join(marvin_home_skill::words(answer)) + " ";
+    std::vector<std::size_t> out;
+    for (std::size_t i : shown) {
+      const std::string room = devices[i].value("room", "");
+      if (!room.empty() && said.find(" " + room + " ") != std::string::npos) out.push_back(i);
+    }
     return out;
   }
 
@@ -166,6 +199,7 @@ class HomeSkill : public marvin::Skill {
   }
 
   static std::string describe(const json& d) {
+    if (is_thermostat(d)) return marvin_home_skill::thermostat_state(d);
     std::string out = "the " + d.value("name", "");
     const json on = d.value("on", json());
     if (!on.is_boolean()) return out + " hasn't told me its state";
@@ -217,6 +251,11 @@ class HomeSkill : public marvin::Skill {
     remember(devices);
     std::vector<json> done;
     for (const json& d : devices) {
+      if (is_thermostat(d) && !d.value("switchable", true)) {
+        robot().say("The " + d.value("name", "") +
+                    " can't be switched on or off, only set to a temperature.");
+        continue;
+      }
       if (auto state = command(d, json{{"on", on}})) done.push_back(*state);
     }
     report(done);
@@ -271,13 +310,22 @@ class HomeSkill : public marvin::Skill {
     report(done);
   }
 
-  void query(const json& home, const std::string& phrase) {
+  // "Is the fan on?" is answered "Yes, ..."; "what is the thermostat set to?" is not.
+  static bool yes_no_question(const std::string& utterance) {
+    const std::vector<std::string> w = marvin_home_skill::words(utterance);
+    static const std::set<std::string> kOpeners = {"is",  "are", "did",   "was", "were",
+                                                   "has", "have", "do",   "can", "could",
+                                                   "check", "see"};
+    return !w.empty() && kOpeners.count(w.front()) > 0;
+  }
+
+  void query(const json& home, const std::string& phrase, bool yes_no) {
     std::vector<json> devices = pick(home, phrase, true);
     remember(devices);
     if (devices.size() == 1) {
       const json on = devices[0].value("on", json());
       std::string text = describe(devices[0]);
-      if (on.is_boolean()) text = (on.get<bool>() ? "Yes, " : "No, ") + text;
+      if (yes_no && on.is_boolean()) text = (on.get<bool>() ? "Yes, " : "No, ") + text;
       robot().say(capital(text) + ".");
       return;
     }
@@ -294,6 +342,7 @@ class HomeSkill : public marvin::Skill {
     if (everywhere) room = "house";
     std::vector<json> devices;
     for (const json& d : home["devices"]) {
+      if (is_thermostat(d)) continue;  // the heating only when named (see the top)
       if (everywhere || d.value("room", "") == room) devices.push_back(d);
     }
     if (devices.empty()) {
@@ -306,6 +355,172 @@ class HomeSkill : public marvin::Skill {
       if (!command(d, json{{"on", false}})) ++failed;
     }
     if (failed == 0) robot().say("Everything in the " + room + " is off.");
+  }
+
+  // --- the heating ---------------------------------------------------------------------
+
+  // The thermostats `phrase` means: a room ("in the bedroom"), a thermostat's name or "the
+  // heating"; nothing said: the one in the robot's room, else the home's only one, else
+  // the skill asks. Empty after telling the user.
+  std::vector<json> pick_thermostats(const json& home, const std::string& phrase) {
+    json thermostats = json::array();
+    for (const json& d : home["devices"]) {
+      if (is_thermostat(d)) thermostats.push_back(d);
+    }
+    if (thermostats.empty()) {
+      robot().say("I can't change the temperature: none of your devices is a thermostat.");
+      return {};
+    }
+    if (std::vector<json> last = last_thermostats(home, phrase); !last.empty()) return last;
+    std::string said = marvin_home_skill::tidy(phrase);
+    if (said == "here" || said == "in here" || said == "this room" || said == "it" ||
+        said == "them") {
+      said.clear();
+    }
+    const std::string here = home.value("room", "");
+    if (said.empty()) {
+      std::vector<json> local;
+      for (const json& d : thermostats) {
+        if (d.value("room", "") == here) local.push_back(d);
+      }
+      if (!local.empty()) return local;
+      if (thermostats.size() == 1) return {thermostats[0]};
+      said = "thermostat";
+    }
+    if (marvin_home_skill::resolve(thermostats, said, here).matches.empty()) {
+      robot().say("I don't know a thermostat for the " + said + ".");
+      return {};
+    }
+    return pick(json{{"devices", thermostats}, {"room", here}}, said);
+  }
+
+  // "Turn it up" after a request about the heating: the thermostats of that request (empty
+  // when `phrase` is not "it" or "them", or the last request was about something else).
+  std::vector<json> last_thermostats(const json& home, const std::string& phrase) const {
+    const std::string said = marvin_home_skill::tidy(phrase);
+    if ((said != "it" && said != "them") || !last_ || last_->empty()) return {};
+    std::vector<json> out;
+    for (const std::string& id : *last_) {
+      for (const json& d : home["devices"]) {
+        if (d["id"] == id) {
+          if (!is_thermostat(d)) return {};
+          out.push_back(d);
+        }
+      }
+    }
+    return out;
+  }
+
+  // "I'm cold": the set point a step up (the heating on if it was off); "I'm hot": a step
+  // down, but a thermostat that is off stays off.
+  void change_warmth(const json& home, const std::string& phrase, bool warmer) {
+    std::vector<json> thermostats = pick_thermostats(home, phrase);
+    remember(thermostats);
+    std::vector<json> done;
+    for (const json& t : thermostats) {
+      const std::string name = t.value("name", "");
+      const bool on = !t.value("on", json()).is_boolean() || t["on"].get<bool>();
+      if (!warmer && !on) {
+        robot().say("The " + name + " is already off.");
+        continue;
+      }
+      const json target = t.value("target_temperature", json());
+      if (!target.is_number()) {
+        robot().say("The " + name + " hasn't told me its setting, so I can't turn it " +
+                    (warmer ? "up." : "down."));
+        continue;
+      }
+      const double low = t.value("min_temperature", 5.0), high = t.value("max_temperature", 30.0);
+      const double now = target.get<double>();
+      const double want = std::clamp(now + (warmer ? 1 : -1) * marvin_home_skill::kWarmthStep,
+                                     low, high);
+      json state{{"target_temperature", want}};
+      if (warmer && !on) state["on"] = true;
+      if (want == now && on) {
+        robot().say("The " + name + " is already at its " + (warmer ? "highest" : "lowest") +
+                    " setting, " + degrees(now) + " degrees.");
+        continue;
+      }
+      if (auto s = command(t, state)) done.push_back(*s);
+    }
+    report_heating(done);
+  }
+
+  // "set the heating to 21 degrees"
+  void set_temperature(const json& home, const std::string& phrase, int level) {
+    std::vector<json> thermostats = pick_thermostats(home, phrase);
+    remember(thermostats);
+    std::vector<json> done;
+    for (const json& t : thermostats) {
+      const double low = t.value("min_temperature", 5.0), high = t.value("max_temperature", 30.0);
+      if (level < low || level > high) {
+        robot().say("I can set the " + t.value("name", "") + " from " + degrees(low) + " to " +
+                    degrees(high) + " degrees.");
+        continue;
+      }
+      json state{{"target_temperature", level}};
+      if (t.value("switchable", false) && !(t.value("on", json()) == json(true)))
+        state["on"] = true;
+      if (auto s = command(t, state)) done.push_back(*s);
+    }
+    report_heating(done);
+  }
+
+  // "What's the temperature?": what the thermostats measure, the robot's room first (or the
+  // room or thermostat named), with how each is set.
+  void temperature(const json& home, const std::string& phrase) {
+    std::vector<json> measuring;
+    for (const json& d : home["devices"]) {
+      if (is_thermostat(d) && d.value("temperature", json()).is_number()) measuring.push_back(d);
+    }
+    if (measuring.empty()) {
+      robot().say("Sorry, I can't tell the temperature: none of your devices measures it.");
+      return;
+    }
+    std::string said = marvin_home_skill::tidy(phrase);
+    if (said == "here" || said == "in here" || said == "this room") said.clear();
+    const std::string here = home.value("room", "");
+    std::vector<json> chosen;
+    if (!said.empty()) {
+      for (std::size_t i : marvin_home_skill::resolve(measuring, said, here).matches)
+        chosen.push_back(measuring[i]);
+      if (chosen.empty()) {
+        bool a_room = false;  // of this home
+        for (const json& d : home["devices"]) a_room = a_room || d.value("room", "") == said;
+        robot().say(a_room ? "I have no thermometer in the " + said + "."
+                           : "I only know the temperature indoors, from your thermostats, and "
+                             "nothing about the weather.");
+        return;
+      }
+    } else {
+      for (const json& d : measuring) {
+        if (d.value("room", "") == here) chosen.push_back(d);
+      }
+    }
+    std::string text;
+    if (chosen.empty()) {  // every room the robot can tell, saying it cannot tell this one
+      chosen = measuring;
+      if (!here.empty()) text = "I have no thermometer in the " + here + ".";
+    }
+    remember(chosen);
+    for (const json& d : chosen) {
+      if (!text.empty()) text += " ";
+      text += marvin_home_skill::room_temperature(d) + " " +
+              capital(marvin_home_skill::thermostat_state(d)) + ".";
+    }
+    robot().say(text);
+  }
+
+  // "The living room thermostat is on, set to 22 degrees. It's 19.5 degrees in the living
+  // room."
+  void report_heating(const std::vector<json>& done) {
+    std::string text;
+    for (const json& d : done) {
+      if (!text.empty()) text += " ";
+      text += capital(marvin_home_skill::thermostat_state(d)) + ".";
+      if (std::string t = marvin_home_skill::room_temperature(d); !t.empty()) text += " " + t;
+    }
+    if (!text.empty()) robot().say(text);
   }
 
   std::optional<std::vector<std::string>> last_;  // "it": the devices of the last request

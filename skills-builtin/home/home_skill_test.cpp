@@ -6,6 +6,7 @@
 #include <marvin/testing/skill_harness.hpp>
 #include <nlohmann/json.hpp>
 
+#include "heating.h"
 #include "resolve.h"
 
 using Lines = std::vector<std::string>;
@@ -185,6 +186,108 @@ TEST_CASE("resolve: rooms, kinds, plurals") {
   CHECK(resolve(devices, "both bedroom things", "hall").matches == std::vector<std::size_t>{2, 3});
 }
 
+// world() plus a thermostat in the living room and one in the bedroom (5 to 30 degrees).
+void heated_world(marvin::testing::SkillHarness& h) {
+  world(h);
+  auto& r = h.robot();
+  r.add_device(R"({"id": "lrt", "name": "living room thermostat", "room": "living room",
+                   "type": "thermostat", "on": true, "target_temperature": 20, "temperature": 19.5,
+                   "min_temperature": 5, "max_temperature": 30, "switchable": true})");
+  r.add_device(R"({"id": "bt", "name": "bedroom thermostat", "room": "bedroom",
+                   "type": "thermostat", "on": false, "target_temperature": 18, "temperature": 17,
+                   "min_temperature": 5, "max_temperature": 30, "switchable": true})");
+}
+
+TEST_CASE("I'm cold: the thermostat of the robot's room a degree up, the room's temperature said") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  heated_world(h);
+  h.robot().set_room("living room");
+  CHECK(h.intent_of("i'm cold") == "home/warmer");
+  CHECK(h.say("i'm cold") ==
+        Lines{"The living room thermostat is on, set to 21 degrees. It's 19.5 degrees in the "
+              "living room."});
+  CHECK(sent(h) == Lines{R"(smarthome_set lrt {"target_temperature":21.0})"});
+  // "Turn it down" is the same thermostat, not a lamp.
+  CHECK(h.say("turn it down") ==
+        Lines{"The living room thermostat is on, set to 20 degrees. It's 19.5 degrees in the "
+              "living room."});
+  // A heating that is off: warmer switches it on; cooler leaves it off and sends nothing.
+  h.robot().clear();
+  CHECK(h.say("it's too hot in the bedroom") == Lines{"The bedroom thermostat is already off."});
+  CHECK(sent(h).empty());
+  CHECK(h.say("make it warmer in the bedroom") ==
+        Lines{"The bedroom thermostat is on, set to 19 degrees. It's 17 degrees in the bedroom."});
+  CHECK(state(h, "bt")["on"] == true);
+}
+
+TEST_CASE("set the heating to 21 degrees; out of range is refused and nothing is sent") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  heated_world(h);
+  h.robot().set_room("bedroom");
+  CHECK(h.say("set the heating to 40 degrees") ==
+        Lines{"I can set the bedroom thermostat from 5 to 30 degrees."});
+  CHECK(sent(h).empty());
+  CHECK(state(h, "bt")["target_temperature"] == 18);
+  CHECK(h.say("set the heating to 21 degrees") ==
+        Lines{"The bedroom thermostat is on, set to 21 degrees. It's 17 degrees in the bedroom."});
+  CHECK(sent(h) == Lines{R"(smarthome_set bt {"on":true,"target_temperature":21})"});
+  // "Set the lamp to 40 percent" is still the lamp's brightness.
+  h.robot().clear();
+  CHECK(h.say("set the living room lamp to 40 percent") ==
+        Lines{"The living room lamp is on, at 40 percent."});
+}
+
+TEST_CASE("what's the temperature: the robot's room, else every room it can tell") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  heated_world(h);
+  h.robot().set_room("living room");
+  CHECK(h.say("what's the temperature in here") ==
+        Lines{"It's 19.5 degrees in the living room. The living room thermostat is on, set to 20 "
+              "degrees."});
+  CHECK(h.say("how warm is it in the bedroom") ==
+        Lines{"It's 17 degrees in the bedroom. The bedroom thermostat is off."});
+  h.robot().set_room("kitchen");
+  CHECK(h.say("how warm is it") ==
+        Lines{"I have no thermometer in the kitchen. It's 19.5 degrees in the living room. The "
+              "living room thermostat is on, set to 20 degrees. It's 17 degrees in the bedroom. "
+              "The bedroom thermostat is off."});
+  CHECK(h.say("what's the temperature in the kitchen") ==
+        Lines{"I have no thermometer in the kitchen."});
+  CHECK(sent(h).empty());
+}
+
+TEST_CASE("everything off leaves the heating on; turning the heating off is said") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  heated_world(h);
+  CHECK(h.say("turn everything off in the living room") ==
+        Lines{"Everything in the living room is off."});
+  CHECK(state(h, "lrt")["on"] == true);
+  CHECK(h.say("turn off the heating in the living room") ==
+        Lines{"The living room thermostat is off."});
+  CHECK(state(h, "lrt")["on"] == false);
+  CHECK(h.say("is the heating on in the living room") ==
+        Lines{"No, the living room thermostat is off."});
+}
+
+TEST_CASE("no thermostat: warmth requests say so and send nothing") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);
+  CHECK(h.say("i'm cold") ==
+        Lines{"I can't change the temperature: none of your devices is a thermostat."});
+  CHECK(sent(h).empty());
+}
+
+TEST_CASE("heating words and degrees") {
+  using marvin_home_skill::about_heating;
+  CHECK(about_heating("turn up the heating"));
+  CHECK(about_heating("set it to 21 degrees"));
+  CHECK_FALSE(about_heating("turn up the lamp"));
+  CHECK_FALSE(about_heating("set the kitchen light to 30 percent"));
+  CHECK(marvin_home_skill::degrees(21.0) == "21");
+  CHECK(marvin_home_skill::degrees(19.5) == "19.5");
+  CHECK(marvin_home_skill::degrees(-2.5) == "-2.5");
+}
+
 }  // namespace
 
 TEST_CASE("smarthome_set: a malformed state is refused with the field named, nothing sent") {
@@ -193,7 +296,7 @@ TEST_CASE("smarthome_set: a malformed state is refused with the field named, not
   const marvin_robot_api* api = robot.api();
   CHECK(api->smarthome_set(robot.host(), "k", R"({"on": 3})") == MARVIN_ERR_INVALID);
   CHECK(std::string(api->last_error(robot.host())) ==
-        R"(state.on: expected "on": true|false or "brightness": 0..100, got 3)");
+        R"(state.on: expected "on": true|false, "brightness": 0..100 or "target_temperature": degrees Celsius, got 3)");
   CHECK(api->smarthome_set(robot.host(), "k", R"({"brightness": 101})") == MARVIN_ERR_INVALID);
   CHECK(api->smarthome_set(robot.host(), "k", "{oops") == MARVIN_ERR_INVALID);
   CHECK(std::string(api->last_error(robot.host())) == "state is not valid JSON at byte 2");

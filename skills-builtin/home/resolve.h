@@ -70,11 +70,14 @@ inline bool kind_word(const std::string& w, const std::string& type, bool* plura
   static const std::vector<std::pair<std::string, std::string>> kinds = {
       {"light", "light"},   {"lamp", "light"},    {"bulb", "light"},
       {"fan", "fan"},       {"switch", "switch"}, {"plug", "switch"},
-      {"socket", "switch"}, {"device", "*"},      {"thing", "*"}};
+      {"socket", "switch"}, {"device", "*"},      {"thing", "*"},
+      {"thermostat", "thermostat"}, {"heating", "thermostat"}, {"heater", "thermostat"},
+      {"radiator", "thermostat"},   {"heat", "thermostat"},    {"temperature", "thermostat"}};
   for (const auto& [word, kind] : kinds) {
     if (w == word || w == word + "s" || w == word + "es") {
       if (w != word) *plural = true;
-      return kind == "*" || kind == type;
+      // "all the devices" leaves the heating alone: it is switched off only when named.
+      return kind == "*" ? type != "thermostat" : kind == type;
     }
   }
   return false;
@@ -117,7 +120,10 @@ inline Resolution resolve(const nlohmann::json& devices, const std::string& phra
   rest.erase(std::remove_if(rest.begin(), rest.end(),
                             [&](const std::string& w) {
                               if (everywhere_word(w)) r.everywhere = r.plural = true;
-                              return w == "in" || w == "of" || everywhere_word(w);
+                              // "is the heating on in the bedroom": the state asked
+                              // about is no word of the device's name.
+                              return w == "in" || w == "of" || w == "on" || w == "off" ||
+                                     everywhere_word(w);
                             }),
              rest.end());
   for (std::size_t i = 0; i < devices.size(); ++i) {

@@ -31,7 +31,7 @@ TEST_CASE("a default-schema light: brightness on its own topics, scaled") {
   CHECK(d.name == "kitchen ceiling");
   CHECK(d.dimmable);
   CHECK(d.protocol.availability_topic == "k/avail");
-  auto messages = command_messages(d, DeviceCommand{true, 40, {}});
+  auto messages = command_messages(d, DeviceCommand{true, 40, {}, {}});
   REQUIRE(messages.size() == 2);
   CHECK(messages[0] == std::pair<std::string, std::string>{"k/set", "ON"});
   CHECK(messages[1] == std::pair<std::string, std::string>{"k/b/set", "40"});
@@ -83,7 +83,7 @@ TEST_CASE("Zigbee2MQTT: rooms from the friendly name or the description; sensors
   CHECK(ds[1].name == "plug 1");
   CHECK(ds[1].room == "garage");
   CHECK(ds[1].type == DeviceType::kSwitch);
-  auto messages = command_messages(ds[0], DeviceCommand{{}, 50, {}});
+  auto messages = command_messages(ds[0], DeviceCommand{{}, 50, {}, {}});
   REQUIRE(messages.size() == 1);
   CHECK(messages[0].second == R"({"brightness":127})");
   DeviceState s;
@@ -93,6 +93,93 @@ TEST_CASE("Zigbee2MQTT: rooms from the friendly name or the description; sensors
   CHECK(s.reports == 1);
   CHECK_FALSE(apply_state(ds[0], "zigbee2mqtt/upstairs/Reading Lamp", "[]", &s));
   CHECK(s.reports == 1);
+}
+
+TEST_CASE("Zigbee2MQTT thermostats: a valve's set point, the room's temperature, heat and off") {
+  std::vector<Device> ds = parse_z2m_devices("z", R"([
+    {"friendly_name": "bedroom/radiator", "type": "EndDevice", "definition": {"exposes": [
+        {"type": "climate", "features": [
+            {"name": "current_heating_setpoint", "value_min": 7, "value_max": 28, "value_step": 0.5},
+            {"name": "local_temperature"},
+            {"name": "system_mode", "values": ["off", "auto", "heat"]}]}]}},
+    {"friendly_name": "hall/valve", "type": "EndDevice", "definition": {"exposes": [
+        {"type": "climate", "features": [{"name": "current_heating_setpoint"}]}]}},
+    {"friendly_name": "attic/display", "type": "EndDevice", "definition": {"exposes": [
+        {"type": "climate", "features": [{"name": "local_temperature"}]}]}},
+    {"friendly_name": "study/trv", "type": "EndDevice", "definition": {"exposes": [
+        {"type": "climate", "features": [
+            {"name": "current_heating_setpoint", "value_min": 4, "value_max": 35},
+            {"name": "occupied_heating_setpoint", "value_min": 6, "value_max": "hot"}]}]}}])");
+  REQUIRE(ds.size() == 3);  // the display sets nothing
+  // Both set points: the occupied one, with its own range (a bound that is no number: the
+  // default).
+  CHECK(ds[2].protocol.setpoint_property == "occupied_heating_setpoint");
+  CHECK(ds[2].protocol.min_c == 6.0);
+  CHECK(ds[2].protocol.max_c == 30.0);
+  const Device& radiator = ds[0];
+  CHECK(radiator.type == DeviceType::kThermostat);
+  CHECK(radiator.room == "bedroom");
+  CHECK(radiator.protocol.setpoint_property == "current_heating_setpoint");
+  CHECK(radiator.protocol.heat_mode == "heat");
+  CHECK(radiator.protocol.min_c == 7.0);
+  CHECK(radiator.protocol.max_c == 28.0);
+  auto messages = command_messages(radiator, DeviceCommand{true, {}, {}, 21.5});
+  REQUIRE(messages.size() == 1);
+  CHECK(messages[0].first == "z/bedroom/radiator/set");
+  CHECK(messages[0].second == R"({"current_heating_setpoint":21.5,"system_mode":"heat"})");
+  DeviceState s;
+  CHECK(apply_state(radiator, "z/bedroom/radiator",
+                    R"({"current_heating_setpoint":21.5,"local_temperature":18.2,"system_mode":"auto"})",
+                    &s));
+  CHECK(s.target_c == 21.5);
+  CHECK(s.current_c == 18.2);
+  CHECK(s.on == true);  // auto heats too
+  CHECK(state_matches(s, DeviceCommand{true, {}, {}, 21.5}));
+  CHECK_FALSE(state_matches(s, DeviceCommand{{}, {}, {}, 22.0}));
+  // A valve without modes cannot be switched off: "on" is not sent, the set point is.
+  CHECK(ds[1].protocol.heat_mode.empty());
+  messages = command_messages(ds[1], DeviceCommand{false, {}, {}, 19.0});
+  REQUIRE(messages.size() == 1);
+  CHECK(messages[0].second == R"({"current_heating_setpoint":19.0})");
+}
+
+TEST_CASE("Home Assistant climate: mode and set point on their own topics, plain payloads") {
+  std::string component, object;
+  REQUIRE(parse_ha_config_topic("homeassistant", "homeassistant/climate/lr/config", &component,
+                                &object));
+  Device d = parse_ha_config("climate", "lr", R"({"name": "Living room heating", "~": "hvac/lr",
+      "mode_cmd_t": "~/mode/set", "mode_stat_t": "~/mode", "modes": ["off", "heat"],
+      "temp_cmd_t": "~/target/set", "temp_stat_t": "~/target", "curr_temp_t": "~/current",
+      "min_temp": 10, "max_temp": 26, "device": {"suggested_area": "Living Room"}})");
+  CHECK(d.type == DeviceType::kThermostat);
+  CHECK(d.name == "living room heating");
+  CHECK(d.room == "living room");
+  CHECK(d.protocol.max_c == 26.0);
+  auto messages = command_messages(d, DeviceCommand{true, {}, {}, 20.5});
+  REQUIRE(messages.size() == 2);
+  CHECK(messages[0] == std::pair<std::string, std::string>{"hvac/lr/mode/set", "heat"});
+  CHECK(messages[1] == std::pair<std::string, std::string>{"hvac/lr/target/set", "20.5"});
+  DeviceState s;
+  CHECK(apply_state(d, "hvac/lr/target", "20.5", &s));
+  CHECK(apply_state(d, "hvac/lr/current", "19", &s));
+  CHECK(apply_state(d, "hvac/lr/mode", "off", &s));
+  CHECK(s.target_c == 20.5);
+  CHECK(s.current_c == 19.0);
+  CHECK(s.on == false);
+  // A temperature that is not a number changes nothing.
+  CHECK_FALSE(apply_state(d, "hvac/lr/target", "warm", &s));
+  CHECK(s.target_c == 20.5);
+  CHECK(s.reports == 3);
+  // What is wrong is named.
+  CHECK_THROWS_WITH_AS(parse_ha_config("climate", "x", R"({"name": "t", "mode_cmd_t": "m"})"),
+                       "\"temperature_command_topic\" is missing", DiscoveryError);
+  CHECK_THROWS_WITH_AS(
+      parse_ha_config("climate", "x", R"({"temp_cmd_t": "t", "min_temp": 30, "max_temp": 10})"),
+      "\"min_temp\" must be below \"max_temp\"", DiscoveryError);
+  CHECK_THROWS_WITH_AS(parse_ha_config("climate", "x", R"({"temp_cmd_t": "t", "max_temp": "hot"})"),
+                       "\"max_temp\" must be a number, got \"hot\"", DiscoveryError);
+  CHECK(celsius_text(21.0) == "21");
+  CHECK(celsius_text(-0.5) == "-0.5");
 }
 
 }  // namespace

@@ -18,7 +18,9 @@ const std::vector<std::string> kWorldDevices = {"hall light",
                                                 "bedroom light",
                                                 "bedroom fan",
                                                 "bathroom light",
-                                                "tv"};
+                                                "tv",
+                                                "living room thermostat",
+                                                "bedroom thermostat"};
 
 bool all_world_devices(const std::vector<Device>& devices) {
   for (const std::string& name : kWorldDevices) {
@@ -68,6 +70,13 @@ TEST_CASE("Zigbee2MQTT devices of the simulator are discovered with their names 
     }
     if (d.name == "tv") CHECK(d.type == DeviceType::kSwitch);
     if (d.name == "hall light") CHECK_FALSE(d.dimmable);
+    if (d.name == "bedroom thermostat") {
+      CHECK(d.type == DeviceType::kThermostat);
+      CHECK(d.protocol.setpoint_property == "occupied_heating_setpoint");
+      CHECK(d.protocol.heat_mode == "heat");
+      CHECK(d.protocol.min_c == 5.0);
+      CHECK(d.protocol.max_c == 30.0);
+    }
   }
   // The retained state came with discovery: everything starts off.
   REQUIRE(home.wait_devices(
@@ -78,7 +87,34 @@ TEST_CASE("Zigbee2MQTT devices of the simulator are discovered with their names 
         return true;
       },
       kWait));
-  for (const Device& d : home.devices()) CHECK(d.state.on == false);
+  // The thermostats heat from the start; they report the world's room temperature.
+  for (const Device& d : home.devices()) {
+    CHECK(d.state.on == (d.type == DeviceType::kThermostat));
+    if (d.name == "bedroom thermostat") {
+      CHECK(d.state.target_c == 20.0);
+      CHECK(d.state.current_c == 18.0);
+    }
+  }
+}
+
+TEST_CASE("a thermostat's set point and its heating off are confirmed from its report") {
+  MosquittoBroker broker;
+  ChildProcess sim = start_sim(broker);
+  HomeService home(config_for(broker));
+  home.start();
+  REQUIRE(home.wait_connected(kWait));
+  REQUIRE(home.wait_devices(all_world_devices, kWait));
+  const std::string bedroom = id_of(home, "bedroom thermostat");
+  HomeService::SetResult warmer = home.set(bedroom, DeviceCommand{{}, {}, {}, 21.5});
+  CHECK(warmer.outcome == HomeService::Outcome::kConfirmed);
+  CHECK(warmer.state.target_c == 21.5);
+  CHECK(warmer.state.current_c == 18.0);
+  sim.wait_for_line("bedroom thermostat: heat 21.5");
+  HomeService::SetResult off = home.set(bedroom, DeviceCommand{false, {}, {}, {}});
+  CHECK(off.outcome == HomeService::Outcome::kConfirmed);
+  CHECK(off.state.on == false);
+  CHECK(off.state.target_c == 21.5);  // off keeps the set point for when it heats again
+  sim.wait_for_line("bedroom thermostat: off 21.5");
 }
 
 TEST_CASE("on, off, dim and query are confirmed from the device's reported state") {
@@ -90,12 +126,12 @@ TEST_CASE("on, off, dim and query are confirmed from the device's reported state
   REQUIRE(home.wait_devices(all_world_devices, kWait));
   const std::string kitchen = id_of(home, "kitchen light");
 
-  HomeService::SetResult on = home.set(kitchen, DeviceCommand{true, {}, {}});
+  HomeService::SetResult on = home.set(kitchen, DeviceCommand{true, {}, {}, {}});
   CHECK(on.outcome == HomeService::Outcome::kConfirmed);
   CHECK(on.state.on == true);
   sim.wait_for_line("kitchen light: ON 254");
 
-  HomeService::SetResult dim = home.set(kitchen, DeviceCommand{{}, 30, {}});
+  HomeService::SetResult dim = home.set(kitchen, DeviceCommand{{}, 30, {}, {}});
   CHECK(dim.outcome == HomeService::Outcome::kConfirmed);
   CHECK(dim.state.brightness_pct == 30);
   sim.wait_for_line("kitchen light: ON 76");  // 30 % of 254
@@ -106,12 +142,12 @@ TEST_CASE("on, off, dim and query are confirmed from the device's reported state
   CHECK(now->state.on == true);
   CHECK(now->state.brightness_pct == 30);
 
-  HomeService::SetResult off = home.set(kitchen, DeviceCommand{false, {}, {}});
+  HomeService::SetResult off = home.set(kitchen, DeviceCommand{false, {}, {}, {}});
   CHECK(off.outcome == HomeService::Outcome::kConfirmed);
   CHECK(off.state.on == false);
   sim.wait_for_line("kitchen light: OFF 76");
 
-  CHECK(home.set("z2m:nowhere/nothing", DeviceCommand{true, {}, {}}).outcome ==
+  CHECK(home.set("z2m:nowhere/nothing", DeviceCommand{true, {}, {}, {}}).outcome ==
         HomeService::Outcome::kUnknownDevice);
 }
 
@@ -122,7 +158,7 @@ TEST_CASE("a device that never answers is reported as not answering, not as done
   home.start();
   REQUIRE(home.wait_connected(kWait));
   REQUIRE(home.wait_devices(all_world_devices_reported, kWait));
-  HomeService::SetResult r = home.set(id_of(home, "bedroom fan"), DeviceCommand{true, {}, {}},
+  HomeService::SetResult r = home.set(id_of(home, "bedroom fan"), DeviceCommand{true, {}, {}, {}},
                                       std::chrono::milliseconds(300));
   CHECK(r.outcome == HomeService::Outcome::kNoAnswer);
   CHECK(r.state.on == false);
@@ -174,10 +210,10 @@ TEST_CASE("Home Assistant discovery: a JSON-schema light and a default-schema sw
   CHECK(heater->room == "bathroom");
   CHECK(heater->type == DeviceType::kSwitch);
 
-  HomeService::SetResult r = home.set("ha:light/desk", DeviceCommand{true, 50, {}});
+  HomeService::SetResult r = home.set("ha:light/desk", DeviceCommand{true, 50, {}, {}});
   CHECK(r.outcome == HomeService::Outcome::kConfirmed);
   CHECK(r.state.brightness_pct == 50);
-  r = home.set("ha:switch/node7/heater", DeviceCommand{true, {}, {}});
+  r = home.set("ha:switch/node7/heater", DeviceCommand{true, {}, {}, {}});
   CHECK(r.outcome == HomeService::Outcome::kConfirmed);
   CHECK(r.state.on == true);
 
@@ -195,13 +231,13 @@ TEST_CASE("broker killed and restarted: no crash, commands work again, no duplic
   REQUIRE(home.wait_connected(kWait));
   REQUIRE(home.wait_devices(all_world_devices, kWait));
   const std::string hall = id_of(home, "hall light");
-  REQUIRE(home.set(hall, DeviceCommand{true, {}, {}}).outcome == HomeService::Outcome::kConfirmed);
+  REQUIRE(home.set(hall, DeviceCommand{true, {}, {}, {}}).outcome == HomeService::Outcome::kConfirmed);
   sim.wait_for_line("hall light: ON");
 
   broker.kill();
   REQUIRE(home.wait_devices([&](const std::vector<Device>&) { return !home.connected(); }, kWait));
   // While the broker is away: said so at once, and nothing is queued for later.
-  CHECK(home.set(hall, DeviceCommand{false, {}, {}}).outcome ==
+  CHECK(home.set(hall, DeviceCommand{false, {}, {}, {}}).outcome ==
         HomeService::Outcome::kBrokerUnreachable);
   sim.wait_for_line_containing("broker lost");
 
@@ -213,9 +249,9 @@ TEST_CASE("broker killed and restarted: no crash, commands work again, no duplic
   // The simulator re-announced its devices; the hall light is still on (the command sent
   // during the outage was never carried out).
   REQUIRE(home.wait_devices(all_world_devices, kWait));
-  REQUIRE(home.set(hall, DeviceCommand{false, {}, {}}).outcome == HomeService::Outcome::kConfirmed);
+  REQUIRE(home.set(hall, DeviceCommand{false, {}, {}, {}}).outcome == HomeService::Outcome::kConfirmed);
   sim.wait_for_line("hall light: OFF");
-  REQUIRE(home.set(hall, DeviceCommand{true, {}, {}}).outcome == HomeService::Outcome::kConfirmed);
+  REQUIRE(home.set(hall, DeviceCommand{true, {}, {}, {}}).outcome == HomeService::Outcome::kConfirmed);
   sim.wait_for_line("hall light: ON");
   // Exactly the three confirmed commands reached the device: ON, OFF, ON.
   int actions = 0;
@@ -252,7 +288,7 @@ TEST_CASE("malformed discovery and retained garbage are ignored with a log line 
   CHECK(all_world_devices(devices));
   CHECK(home.device(id_of(home, "kitchen light"))->state.on == false);
   // And the service still works.
-  CHECK(home.set(id_of(home, "kitchen light"), DeviceCommand{true, {}, {}}).outcome ==
+  CHECK(home.set(id_of(home, "kitchen light"), DeviceCommand{true, {}, {}, {}}).outcome ==
         HomeService::Outcome::kConfirmed);
 }
 

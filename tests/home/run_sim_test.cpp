@@ -22,7 +22,7 @@ ChildProcess run_marvin(std::vector<std::string> extra) {
   test_support::ChildOptions o;
   o.err = test_support::ChildStream::kNull;
   ChildProcess marvin(argv, o);
-  marvin.wait_for_line_containing("[home: 7 devices on");
+  marvin.wait_for_line_containing("[home: 9 devices on");
   return marvin;
 }
 
@@ -38,6 +38,12 @@ TEST_CASE("marvin run --sim: \"turn on the kitchen light\" turns on the simulato
   sim.wait_for_line("living room lamp: ON 76");
   marvin.send_line("is the kitchen light on?");
   marvin.wait_for_line("Marvin: Yes, the kitchen light is on.");
+  // The heating: the simulator's thermostat reports the new set point before Marvin says it.
+  marvin.send_line("make it warmer in the living room");
+  marvin.wait_for_line(
+      "Marvin: The living room thermostat is on, set to 21 degrees. It's 19.5 degrees in the "
+      "living room.");
+  sim.wait_for_line("living room thermostat: heat 21");
   CHECK(test_support::exit_code(marvin.finish()) == 0);
 }
 
@@ -155,12 +161,15 @@ TEST_CASE("marvin devices list shows discovered devices with rooms, state and al
                      data.path().string()});
   CHECK(test_support::exit_code(list.finish()) == 0);
   const std::vector<std::string> lines = list.output_lines();
-  CHECK(lines.size() == 7);
+  CHECK(lines.size() == 9);
   CHECK(std::find(lines.begin(), lines.end(),
                   "living room lamp (light, dimmable) in living room: off "
                   "[z2m:living room/living room lamp] aliases: \"the big lamp\"") != lines.end());
   CHECK(std::find(lines.begin(), lines.end(),
                   "bedroom fan (fan) in bedroom: off [z2m:bedroom/bedroom fan]") != lines.end());
+  CHECK(std::find(lines.begin(), lines.end(),
+                  "bedroom thermostat (thermostat) in bedroom: on, set to 20 °C, measures 18 °C "
+                  "[z2m:bedroom/bedroom thermostat]") != lines.end());
 
   // The alias works by voice too.
   ChildProcess marvin =

@@ -234,15 +234,34 @@ TEST_CASE("web: devices are listed and switched through the home's broker, as by
   CHECK(too_bright.error() == "field 'brightness': expected a whole number 0..100 (percent)");
   Reply nothing = b.send("POST", path, "{}");
   CHECK(nothing.status == 400);
-  CHECK(nothing.error() == "field 'on': missing (or give 'brightness')");
+  CHECK(nothing.error() == "field 'on': missing (or give 'brightness' or 'target_temperature')");
   Reply unknown = b.send("POST", "/api/devices/the%20moon", json{{"on", true}}.dump());
   CHECK(unknown.status == 404);
   CHECK(unknown.error() == "there is no device \"the moon\"");
   Reply fan_dim = b.send("POST", "/api/devices/bedroom%20fan", json{{"brightness", 20}}.dump());
   CHECK(fan_dim.status == 400);
   CHECK(fan_dim.error() == "the bedroom fan cannot be dimmed");
-  for (const home::Device& d : service.devices())
+  Reply not_degrees = b.send("POST", "/api/devices/living%20room%20thermostat",
+                             json{{"target_temperature", "warm"}}.dump());
+  CHECK(not_degrees.status == 400);
+  CHECK(not_degrees.error() == "field 'target_temperature': expected degrees Celsius (a number)");
+  Reply too_hot = b.send("POST", "/api/devices/living%20room%20thermostat",
+                         json{{"target_temperature", 35}}.dump());
+  CHECK(too_hot.status == 400);
+  CHECK(too_hot.error() == "the living room thermostat can be set from 5 to 30 degrees");
+  Reply lamp_heat = b.send("POST", path, json{{"target_temperature", 21}}.dump());
+  CHECK(lamp_heat.status == 400);
+  CHECK(lamp_heat.error() == "the living room lamp is not a thermostat");
+  for (const home::Device& d : service.devices()) {
     if (d.name == "living room lamp") CHECK(d.state.on == false);
+    if (d.name == "living room thermostat") CHECK(d.state.target_c == 20.0);
+  }
+  // A set point in range: answered with what the thermostat reported.
+  Reply warmer = b.send("POST", "/api/devices/living%20room%20thermostat",
+                        json{{"target_temperature", 21.5}}.dump());
+  REQUIRE(warmer.status == 200);
+  CHECK(warmer.json()["target_temperature"] == 21.5);
+  CHECK(warmer.json()["temperature"] == 19.5);
 
   // Switched on: the answer is the state the lamp reported back.
   Reply on = b.send("POST", path, json{{"on", true}}.dump());

@@ -39,7 +39,9 @@ TEST_CASE("the default home loads with its rooms, doors, places and devices") {
   CHECK(w.map.find("the kitchen")->name == "kitchen");
   CHECK(w.map.find("sofa")->name == "the sofa");
   CHECK(w.map.find("anna")->kind == marvin::navigation::Target::Kind::kPerson);
-  CHECK(w.devices.size() == 7);
+  CHECK(w.devices.size() == 9);
+  CHECK(w.devices.at(8).name == "bedroom thermostat");
+  CHECK(w.devices.at(8).type == "thermostat");
   CHECK(w.devices.at(1).name == "living room lamp");
   CHECK(w.devices.at(1).dimmable);
   CHECK(w.map.room_at(w.robot.start.position())->name == "hall");
@@ -82,8 +84,12 @@ TEST_CASE("malformed world files name the element and the field") {
                 "a wall") == 0);
   CHECK(error_of(
             world_with(R"("devices": [{"name": "lamp", "type": "toaster", "room": "hall"}],)")) ==
-        "/tmp/w.json: devices[0] \"lamp\": 'type' \"toaster\" must be \"light\", \"fan\" or "
-        "\"switch\"");
+        "/tmp/w.json: devices[0] \"lamp\": 'type' \"toaster\" must be \"light\", \"fan\", "
+        "\"switch\" or \"thermostat\"");
+  CHECK(error_of(world_with(
+            R"("devices": [{"name": "lamp", "type": "light", "room": "hall", "temperature": 20}],)")) ==
+        "/tmp/w.json: devices[0] \"lamp\": 'temperature' must be a number, on a thermostat (the "
+        "room's, in degrees Celsius)");
   CHECK(
       error_of(world_with(
           R"("furniture": [{"name": "tv", "min": [1, 1], "max": [2, 1.3], "screen": "yes"}],)")) ==

@@ -384,6 +384,15 @@ void dump_scores(const std::string& prefix, const std::vector<ScoreLog>& logs, c
     throw std::runtime_error("--dump-scores: cannot write \"" + prefix + ".*.tsv\"");
 }
 
+// PREFIX.cnn.tsv: "end_sample posterior" for every window of the cnn spotter, so rules that
+// combine it with a head (one confirming the other) can be replayed offline too.
+void dump_cnn_trace(const std::string& prefix, const Trace& trace) {
+  std::ofstream out(prefix + ".cnn.tsv");
+  for (std::size_t w = 0; w < trace.posteriors.size(); ++w)
+    out << end_sample(trace.end_frames[w]) << '\t' << trace.posteriors[w] << '\n';
+  if (!out.flush()) throw std::runtime_error("--dump-scores: cannot write \"" + prefix + ".cnn.tsv\"");
+}
+
 struct EvalRow {
   double miss, fah;
   float setting;
@@ -682,8 +691,9 @@ int main(int argc, char** argv) {
                  "also replay each threshold on the mean of this many consecutive scores")
       ->check(CLI::Range(1, 10));
   app.add_option("--dump-scores", g_dump_scores,
-                 "write every head's scores and the track's segments to PREFIX.scores.tsv and "
-                 "PREFIX.track.tsv (for trying decision rules offline)");
+                 "write every head's scores, the cnn spotter's posteriors and the track's segments to "
+                 "PREFIX.scores.tsv, PREFIX.cnn.tsv and PREFIX.track.tsv (for trying decision "
+                 "rules offline)");
   app.add_option("--embedding-details", g_embedding_details,
                  "at this threshold (first --embedding-consecutive, first head): miss rate per "
                  "voice (real track: per folder), each missed keyword and each false accept");
@@ -733,6 +743,7 @@ int main(int argc, char** argv) {
           all_embedding_rows(head_paths, pcm, track, embedding_thresholds, hours);
       {
         const Trace trace = cnn_trace(model, pcm);
+        if (!g_dump_scores.empty()) dump_cnn_trace(g_dump_scores, trace);
         for (float th : thresholds) {
           const Score s = score(detection_ends(trace, model.detection.smoothing_windows, th,
                                                kws::refractory_windows(model)),
@@ -831,6 +842,7 @@ int main(int argc, char** argv) {
     const double neural_s = std::chrono::duration<double>(Clock::now() - neural_start).count();
     std::printf("neural int8: %zu windows in %.1f s wall clock\n", trace.posteriors.size(),
                 neural_s);
+    if (!g_dump_scores.empty()) dump_cnn_trace(g_dump_scores, trace);
 
     std::printf("\n%-28s %9s %8s %6s %8s\n", "detector", "setting", "miss", "FA", "FA/h");
     const int refractory = kws::refractory_windows(model);

@@ -335,6 +335,11 @@ $('person-form').addEventListener('submit', (event) => {
 function deviceState(d) {
   if (!d.available) return 'offline';
   if (d.on === null) return 'unknown';
+  if (d.type === 'thermostat') {
+    return (d.on ? 'heating' : 'off') +
+        (d.target_temperature !== null ? ', set to ' + d.target_temperature + ' °C' : '') +
+        (d.temperature !== null ? ', ' + d.temperature + ' °C in the room' : '');
+  }
   return (d.on ? 'on' : 'off') + (d.on && d.brightness !== null ? ' ' + d.brightness + '%' : '');
 }
 

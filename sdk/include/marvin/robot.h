@@ -81,7 +81,7 @@ typedef enum marvin_log_level {
 typedef int (*marvin_guide_event_fn)(void* user, const char* event_json);
 
 #define MARVIN_ROBOT_API_MAJOR 1
-#define MARVIN_ROBOT_API_MINOR 5
+#define MARVIN_ROBOT_API_MINOR 6
 
 typedef struct marvin_robot_api {
   uint32_t struct_size; /* sizeof(marvin_robot_api) as the host compiled it */
@@ -163,7 +163,9 @@ typedef struct marvin_robot_api {
   marvin_status (*phone_call)(marvin_host* host, const char* phone_number);
   /* Smart home (real since API 1.2; MARVIN_ERR_UNAVAILABLE on older hosts): sets device
    * `device` (an id from smarthome_devices, or the name or alias of exactly one device) to
-   * `state`: "on", "off", or JSON {"on": true|false, "brightness": 0..100} (either or both).
+   * `state`: "on", "off", or JSON {"on": true|false, "brightness": 0..100} (either or both);
+   * since API 1.6 a thermostat also takes "target_temperature" (degrees Celsius, within its
+   * "min_temperature".."max_temperature"; "on": false is heating off, when "switchable").
    * Returns MARVIN_OK only once the device itself reported the new state through the home's
    * broker; MARVIN_ERR_UNAVAILABLE when there is no broker connection, the device is offline
    * or did not answer within a few seconds (last_error says which), MARVIN_ERR_NOT_FOUND
@@ -245,7 +247,11 @@ typedef struct marvin_robot_api {
    *                 "aliases": ["the big lamp"], "available": true,
    *                 "on": false, "brightness": 100}]}
    * "connected": whether the home's broker is reachable now; "room": where the robot is;
-   * "on"/"brightness" are null until the device reported them. */
+   * "on"/"brightness" are null until the device reported them.
+   * Since API 1.6, "type" may be "thermostat" (heating), with "target_temperature" (the set
+   * point) and "temperature" (what it measures), in degrees Celsius or null until reported,
+   * "min_temperature", "max_temperature", and "switchable" (whether "on" can be set: its
+   * heating can be turned off; "on" is true while it heats, whatever its mode). */
   marvin_status (*smarthome_devices)(marvin_host* host, marvin_text_out* devices_json);
 
   /* --- since API 1.3: finding and guarding --------------------------------------------
