@@ -521,7 +521,9 @@ bool state_matches(const DeviceState& state, const DeviceCommand& command) {
   }
   if (command.brightness_pct && !state.brightness_pct && !command.on) return false;
   if (command.color_temp && state.color_temp != command.color_temp) return false;
-  if (command.target_c && (!state.target_c || std::abs(*state.target_c - *command.target_c) > 0.05))
+  // Thermostats keep their set point in steps (0.5 or 1 degree): 21.3 asked is 21.5 or 21
+  // reported, and that is the command carried out.
+  if (command.target_c && (!state.target_c || std::abs(*state.target_c - *command.target_c) > 0.5))
     return false;
   return true;
 }

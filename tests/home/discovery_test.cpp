@@ -135,7 +135,8 @@ TEST_CASE("Zigbee2MQTT thermostats: a valve's set point, the room's temperature,
   CHECK(s.current_c == 18.2);
   CHECK(s.on == true);  // auto heats too
   CHECK(state_matches(s, DeviceCommand{true, {}, {}, 21.5}));
-  CHECK_FALSE(state_matches(s, DeviceCommand{{}, {}, {}, 22.0}));
+  CHECK(state_matches(s, DeviceCommand{{}, {}, {}, 21.3}));  // rounded to the valve's step
+  CHECK_FALSE(state_matches(s, DeviceCommand{{}, {}, {}, 23.0}));
   // A valve without modes cannot be switched off: "on" is not sent, the set point is.
   CHECK(ds[1].protocol.heat_mode.empty());
   messages = command_messages(ds[1], DeviceCommand{false, {}, {}, 19.0});
