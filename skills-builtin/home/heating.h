@@ -36,6 +36,11 @@ inline std::string degrees(double celsius) {
   return out;
 }
 
+// "here", "in here", "this room" (tidied): the room the robot is in, not one named.
+inline bool means_this_room(const std::string& said) {
+  return said == "here" || said == "in here" || said == "this room";
+}
+
 inline bool is_thermostat(const nlohmann::json& device) {
   return device.value("type", "") == "thermostat";
 }

@@ -373,10 +373,7 @@ class HomeSkill : public marvin::Skill {
     }
     if (std::vector<json> last = last_thermostats(home, phrase); !last.empty()) return last;
     std::string said = marvin_home_skill::tidy(phrase);
-    if (said == "here" || said == "in here" || said == "this room" || said == "it" ||
-        said == "them") {
-      said.clear();
-    }
+    if (marvin_home_skill::means_this_room(said) || said == "it" || said == "them") said.clear();
     const std::string here = home.value("room", "");
     if (said.empty()) {
       std::vector<json> local;
@@ -459,8 +456,7 @@ class HomeSkill : public marvin::Skill {
         continue;
       }
       json state{{"target_temperature", level}};
-      if (t.value("switchable", false) && !(t.value("on", json()) == json(true)))
-        state["on"] = true;
+      if (t.value("switchable", false) && t.value("on", json()) != json(true)) state["on"] = true;
       if (auto s = command(t, state)) done.push_back(*s);
     }
     report_heating(done);
@@ -478,7 +474,7 @@ class HomeSkill : public marvin::Skill {
       return;
     }
     std::string said = marvin_home_skill::tidy(phrase);
-    if (said == "here" || said == "in here" || said == "this room") said.clear();
+    if (marvin_home_skill::means_this_room(said)) said.clear();
     const std::string here = home.value("room", "");
     std::vector<json> chosen;
     if (!said.empty()) {
