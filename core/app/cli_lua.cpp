@@ -154,10 +154,9 @@ void run_skill(const RunSkillOptions& o) {
   } else {
     host.loop().on_heard([](std::string_view line) { write_line("You: " + std::string(line)); });
   }
-  std::thread reader = start_console_reader(host);
+  ConsoleReader reader(host);
   host.body().set_light(devices::Light::kAwaiting);
   host.loop().run();
-  reader.join();
 }
 
 void install_lua_commands(CLI::App& root) {

@@ -21,6 +21,7 @@
 
 #include "app/cli.h"
 #include "app/host.h"
+#include "app/shutdown_signals.h"
 #include "app/voice_run.h"
 #include "app/web_run.h"
 #include "app/installed_skills.h"
@@ -150,6 +151,9 @@ std::unique_ptr<Host> open_host(const RunOptions& o,
 }
 
 void run_sim(const RunOptions& o) {
+  // Before any thread starts (see shutdown_signals.h); a signal before the handler is set
+  // is kept for it.
+  ShutdownSignals signals;
   // Without --sim: the microphone and speaker (a clear error without a sound card).
   std::shared_ptr<LiveAudio> live;
   if (!o.sim) {
@@ -180,7 +184,8 @@ void run_sim(const RunOptions& o) {
       host, o.web, *feed, options.installed_skills_dir, options.time_zone);
   if (live || !o.voice.audio_in.empty()) {
     // The voice run owns the host from here on; it stops the page before the host goes.
-    return run_voice(std::move(host_ptr), o.voice, live, std::shared_ptr<void>(std::move(page)));
+    return run_voice(std::move(host_ptr), o.voice, live, signals,
+                     std::shared_ptr<void>(std::move(page)));
   }
   const bool interactive = isatty(STDIN_FILENO) != 0;
   if (interactive) {  // typed lines are not echoed, but the page shows them as turns
@@ -192,13 +197,19 @@ void run_sim(const RunOptions& o) {
       feed->console_line("You: " + std::string(line));
     });
   }
-  // The console reader feeds the host loop; the loop runs here until end of input.
-  std::thread reader = start_console_reader(host);
+  // The console reader feeds the host loop; the loop runs here until end of input, or
+  // until a signal stops it (the reader goes then too, the input still open).
+  auto reader = std::make_unique<ConsoleReader>(host);
+  signals.on_signal([&host](int signal) {
+    host.show(std::string("[") + signal_name(signal) + ": stopping]");
+    host.loop().shut_down();
+  });
   host.body().set_light(devices::Light::kAwaiting);
   host.manager().say("Hello, I'm Marvin.");
   host.start_scheduler();
   host.loop().run();
-  reader.join();
+  signals.on_signal({});  // the handler uses the host, which goes below
+  reader.reset();
   page.reset();  // before the host it serves
 }
 

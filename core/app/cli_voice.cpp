@@ -251,18 +251,9 @@ std::shared_ptr<LiveAudio> open_live_audio(const VoiceRunOptions& o) {
   return live;
 }
 
-namespace {
-
-std::atomic<VoiceHost*> interrupted_voice{nullptr};
-
-void stop_voice_on_signal(int) {
-  if (VoiceHost* voice = interrupted_voice.load()) voice->stop();
-}
-
-}  // namespace
-
 void run_voice(std::unique_ptr<Host> host_ptr, const VoiceRunOptions& o,
-               const std::shared_ptr<LiveAudio>& live, std::shared_ptr<void> page) {
+               const std::shared_ptr<LiveAudio>& live, ShutdownSignals& signals,
+               std::shared_ptr<void> page) {
   // A local goes before the parameters on every way out (also a throw): the page, which
   // calls into the host, stops before the host is destroyed.
   std::shared_ptr<void> serving = std::move(page);
@@ -290,9 +281,12 @@ void run_voice(std::unique_ptr<Host> host_ptr, const VoiceRunOptions& o,
   if (live) {
     host.show("Marvin is listening on \"" + o.device + "\". Say \"Marvin\", then your request; "
               "Ctrl-C quits.");
-    interrupted_voice.store(voice.get());
-    std::signal(SIGINT, stop_voice_on_signal);
   }
+  signals.on_signal([&host, voice = voice.get()](int signal) {
+    host.show(std::string("[") + signal_name(signal) + ": stopping]");
+    voice->stop();
+    host.loop().shut_down();
+  });
   // The voice thread stands where the console reader stands in typed mode.
   std::vector<std::int16_t> output;
   std::exception_ptr failure;
@@ -310,10 +304,7 @@ void run_voice(std::unique_ptr<Host> host_ptr, const VoiceRunOptions& o,
   });
   host.loop().run();
   listener.join();
-  if (live) {
-    std::signal(SIGINT, SIG_DFL);
-    interrupted_voice.store(nullptr);
-  }
+  signals.on_signal({});  // the handler uses the host and the voice, which go below
   serving.reset();   // the web page calls into the host: it stops first
   host_ptr.reset();  // first: a task or the scheduler may still be talking to the front end
   voice.reset();

@@ -6,12 +6,18 @@
 #include "devices/serial_body.h"
 
 #include <date/tz.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
 #include <iostream>
 #include <map>
+#include <stdexcept>
 #include <thread>
 
 #include "data/scheduler.h"
@@ -578,15 +584,46 @@ void Host::watch_skills() {
   watcher_ = std::make_unique<SkillWatcher>(watched_skills_dirs(), [this] { request_reload(); });
 }
 
-std::thread start_console_reader(Host& host) {
-  return std::thread([&host] {
-    std::string line;
-    while (std::getline(std::cin, line)) {
-      while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-      if (!line.empty()) host.loop().post(line);
+ConsoleReader::ConsoleReader(Host& host) {
+  if (::pipe2(wake_, O_CLOEXEC) != 0) {
+    throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  }
+  thread_ = std::thread([this, &host] { read_lines(host); });
+}
+
+ConsoleReader::~ConsoleReader() {
+  [[maybe_unused]] auto written = ::write(wake_[1], "x", 1);
+  thread_.join();
+  ::close(wake_[0]);
+  ::close(wake_[1]);
+}
+
+void ConsoleReader::read_lines(Host& host) {
+  std::string pending;
+  auto post = [&host](std::string line) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (!line.empty()) host.loop().post(std::move(line));
+  };
+  char buffer[4096];
+  for (;;) {
+    pollfd fds[2] = {{STDIN_FILENO, POLLIN, 0}, {wake_[0], POLLIN, 0}};
+    if (::poll(fds, 2, -1) < 0) {
+      if (errno == EINTR) continue;
+      break;
     }
-    host.loop().close();
-  });
+    if (fds[1].revents != 0) return;  // stopped: the loop is not ours to close any more
+    if (fds[0].revents == 0) continue;
+    const ssize_t got = ::read(STDIN_FILENO, buffer, sizeof buffer);
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) break;  // end of input (or an unreadable one)
+    pending.append(buffer, static_cast<std::size_t>(got));
+    for (std::size_t nl; (nl = pending.find('\n')) != std::string::npos;) {
+      post(pending.substr(0, nl));
+      pending.erase(0, nl + 1);
+    }
+  }
+  post(std::move(pending));  // a last line without a newline, as std::getline has it
+  host.loop().close();
 }
 
 }  // namespace marvin::app

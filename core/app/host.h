@@ -208,9 +208,21 @@ class Host {
   std::unique_ptr<SkillWatcher> watcher_;  // stopped first (declared last)
 };
 
-// Starts a thread that posts each non-empty line of standard input (trailing blanks and
-// CR removed) to host.loop() and closes the loop at end of input. The caller runs the
-// loop and joins the thread after it returns.
-std::thread start_console_reader(Host& host);
+// A thread that posts each non-empty line of standard input (trailing blanks and CR
+// removed) to host.loop() and closes the loop at end of input. The caller runs the loop;
+// the destructor ends the thread also while the input is still open (a terminal after
+// Ctrl-C, where nobody typed Ctrl-D).
+class ConsoleReader {
+ public:
+  explicit ConsoleReader(Host& host);
+  ~ConsoleReader();
+  ConsoleReader(const ConsoleReader&) = delete;
+  ConsoleReader& operator=(const ConsoleReader&) = delete;
+
+ private:
+  void read_lines(Host& host);
+  int wake_[2] = {-1, -1};  // a byte on wake_[1] ends read_lines()
+  std::thread thread_;
+};
 
 }  // namespace marvin::app

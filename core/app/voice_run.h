@@ -9,6 +9,7 @@
 
 #include "app/cli.h"
 #include "app/host.h"
+#include "app/shutdown_signals.h"
 
 namespace marvin::app {
 
@@ -28,11 +29,13 @@ struct LiveAudio;
 std::shared_ptr<LiveAudio> open_live_audio(const VoiceRunOptions& options);
 
 // Runs `host` (loaded, nothing started yet) with the voice front end on the recording, or on
-// `live` when given, until the recording ends (live: until Ctrl-C). Destroys the host before
+// `live` when given, until the recording ends (live: until SIGINT or SIGTERM, which stop
+// a recording early too; `signals` was constructed before the host). Destroys the host before
 // the front end (the host's threads talk to it until they are gone), then writes
 // --audio-out. Throws CliError on a bad recording or missing speech models. `page` (the web
 // page serving this host, or null) is released first, before the host.
 void run_voice(std::unique_ptr<Host> host, const VoiceRunOptions& options,
-               const std::shared_ptr<LiveAudio>& live, std::shared_ptr<void> page = {});
+               const std::shared_ptr<LiveAudio>& live, ShutdownSignals& signals,
+               std::shared_ptr<void> page = {});
 
 }  // namespace marvin::app

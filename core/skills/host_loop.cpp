@@ -29,6 +29,18 @@ void HostLoop::close() {
   changed_.notify_all();
 }
 
+void HostLoop::shut_down() {
+  {
+    std::lock_guard lock(mutex_);
+    input_.clear();
+    closed_ = true;
+    shutting_down_ = true;
+    interrupted_ = true;  // a question pending or asked from now on gets no answer
+    ++events_;
+  }
+  changed_.notify_all();
+}
+
 void HostLoop::wake() {
   {
     std::lock_guard lock(mutex_);
@@ -165,6 +177,10 @@ bool HostLoop::stop_queued() const {
 
 void HostLoop::route(std::string line) {
   std::unique_lock lock(mutex_);
+  if (shutting_down_) {  // taken just before shut_down(): dropped with the rest
+    holding_ = false;
+    return;
+  }
   if (!manager_ || is_stop(line)) {
     holding_ = false;
     lock.unlock();
@@ -186,15 +202,20 @@ void HostLoop::route(std::string line) {
       told_held = true;
       notify_waiting(lock, Waiting::kHeld);
     }
-    changed_.wait(lock, [&] { return question_pending_ || !manager_->busy() || stop_queued(); });
-    if (question_pending_) {
+    changed_.wait(lock, [&] {
+      return shutting_down_ || question_pending_ || !manager_->busy() || stop_queued();
+    });
+    if (question_pending_ && !shutting_down_) {
       answer_ = std::move(line);
+      // Answered: the next utterance is not an answer too, even when it comes before the
+      // task has woken to take this one (piped lines, quick speech).
+      question_pending_ = false;
       holding_ = false;
       lock.unlock();
       changed_.notify_all();
       return;
     }
-    if (!manager_->busy()) break;
+    if (!manager_->busy() || shutting_down_) break;
     // A "stop" behind the held utterance goes first.
     for (auto it = input_.begin(); it != input_.end(); ++it) {
       if (is_stop(*it)) {
@@ -208,8 +229,9 @@ void HostLoop::route(std::string line) {
       }
     }
   }
-  interrupted_ = false;  // a new conversation starts
   holding_ = false;
+  if (shutting_down_) return;  // the held utterance goes with the rest
+  interrupted_ = false;        // a new conversation starts
   lock.unlock();
   manager_->handle(line);
 }
@@ -217,7 +239,15 @@ void HostLoop::route(std::string line) {
 void HostLoop::run() {
   loop_thread_ = std::this_thread::get_id();
   while (std::optional<std::string> line = pop(true)) route(std::move(*line));
-  // End of input: a running task finishes (its questions get no answer).
+  // End of input: a running task finishes (its questions get no answer). After
+  // shut_down() it is stopped; no task starts after the loop above has ended, so one
+  // that is not busy here will not be.
+  bool stop = false;
+  {
+    std::lock_guard lock(mutex_);
+    stop = shutting_down_;
+  }
+  if (manager_ && stop && manager_->busy()) manager_->stop();
   if (manager_) {
     while (!manager_->wait_idle(std::chrono::hours{1})) {
     }

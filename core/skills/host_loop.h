@@ -17,6 +17,9 @@
 // HostLoop is the User of the manager: say() hands sentences to `speak` (serialised), ask()
 // says the question and waits as described. At end of input (close()), pending and later
 // questions return no answer and run() returns once the running task has finished.
+// shut_down() (SIGINT, SIGTERM) is the end of input without waiting: utterances not yet
+// taken are dropped, the running task is stopped as by "stop", and run() returns once it
+// has ended.
 #pragma once
 
 #include <condition_variable>
@@ -66,6 +69,7 @@ class HostLoop : public User {
 
   void post(std::string utterance);  // any thread
   void close();                      // end of input; any thread
+  void shut_down();                  // stop now (see above); any thread
   // Makes a loop waiting between utterances ask Timers::next again now (any thread): how
   // the host gets work onto the loop thread, e.g. a skills reload (core/app/host.h).
   void wake();
@@ -99,6 +103,7 @@ class HostLoop : public User {
   std::condition_variable changed_;
   std::deque<std::string> input_;      // guarded by mutex_
   bool closed_ = false;                // guarded by mutex_
+  bool shutting_down_ = false;         // guarded by mutex_: shut_down() was called
   bool interrupted_ = false;           // guarded by mutex_
   bool question_pending_ = false;      // guarded by mutex_: a worker waits in ask()
   bool holding_ = false;               // guarded by mutex_: the loop holds an utterance

@@ -128,6 +128,11 @@ void Baresip::spawn() {
     throw std::runtime_error("phone: cannot start " + program + ": " + std::strerror(saved));
   }
   if (pid == 0) {
+    // Signals the parent blocks (marvin run takes SIGINT and SIGTERM on a thread of its
+    // own) must reach baresip: its stop and the parent-death signal are SIGTERM.
+    sigset_t none;
+    sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
     int failed = 0;
     const int null_fd = ::open("/dev/null", O_RDONLY);
     if (null_fd < 0 || ::dup2(null_fd, STDIN_FILENO) < 0 || ::dup2(out[1], STDOUT_FILENO) < 0 ||

@@ -448,6 +448,42 @@ TEST_CASE("'no' answering a long skill's question is an answer, not a stop") {
   CHECK(s.finish() == Lines{"Where to?", "Going to the no."});
 }
 
+TEST_CASE("shut_down while a long skill runs: it stops, held and queued requests are dropped") {
+  g_walks_cancelled = 0;
+  Session s;
+  s.loop.post("go for a walk");
+  REQUIRE(s.body.wait_for("move"));
+  s.loop.post("say hello to Bob");  // held behind the walk
+  s.loop.post("say hello to Ann");  // queued behind it
+  s.loop.shut_down();
+  s.thread.join();  // run() returns without an end of input
+  CHECK(s.said == Lines{"OK, I stopped."});
+  CHECK(g_walks_cancelled == 1);
+  CHECK(s.body.motions() == Lines{"move", "stop"});
+  CHECK_FALSE(s.manager.busy());
+}
+
+TEST_CASE("shut_down during a long skill's question: no answer is made up, nothing starts") {
+  Session s;
+  s.loop.post("run an errand");
+  REQUIRE(s.wait_said("Where to?"));
+  s.loop.shut_down();
+  s.thread.join();
+  s.loop.post("kitchen");  // after the end: never taken
+  CHECK(std::find(s.said.begin(), s.said.end(), "Going to the kitchen.") == s.said.end());
+  CHECK(s.said.front() == "Where to?");
+  CHECK_FALSE(s.manager.busy());
+}
+
+TEST_CASE("shut_down with nothing running says nothing") {
+  Session s;
+  s.loop.post("say hello to Ann");
+  REQUIRE(s.wait_said("Hello, ann!"));
+  s.loop.shut_down();
+  s.thread.join();
+  CHECK(s.said == Lines{"Hello, ann!"});
+}
+
 TEST_CASE("a long skill's question is answered by the next utterance") {
   Session s;
   s.loop.post("run an errand");
@@ -455,6 +491,19 @@ TEST_CASE("a long skill's question is answered by the next utterance") {
   s.loop.post("kitchen");
   REQUIRE(s.wait_said("Going to the kitchen."));
   CHECK(s.finish() == Lines{"Where to?", "Going to the kitchen."});
+}
+
+TEST_CASE("a request right behind an answer is the next request, not a second answer") {
+  for (int i = 0; i < 20; ++i) {  // the two come before the task wakes, in most rounds
+    CAPTURE(i);
+    Session s;
+    s.loop.post("run an errand");
+    REQUIRE(s.wait_said("Where to?"));
+    s.loop.post("kitchen");
+    s.loop.post("say hello to Bob");
+    REQUIRE(s.wait_said("Hello, bob!"));
+    CHECK(s.finish() == Lines{"Where to?", "Going to the kitchen.", "Hello, bob!"});
+  }
 }
 
 TEST_CASE("stop during a long skill's question cancels it") {

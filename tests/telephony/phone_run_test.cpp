@@ -42,7 +42,8 @@ void add_contact(const test_support::TempDir& data, std::vector<std::string> arg
 struct Marvin {
   int port = pick_free_port(true);
   ChildProcess process;
-  Marvin(const test_support::TempDir& data, std::vector<std::string> extra = {})
+  Marvin(const test_support::TempDir& data, std::vector<std::string> extra = {},
+         std::vector<std::string> environment = {})
       : process(
             [&] {
               std::vector<std::string> argv{marvin_exe(), "run", "--sim", "--data-dir",
@@ -51,10 +52,11 @@ struct Marvin {
               argv.insert(argv.end(), extra.begin(), extra.end());
               return argv;
             }(),
-            [] {
+            [&] {
               test_support::ChildOptions o;
               // No installed skills of the machine: the built-in ones only.
               o.environment = {"MARVIN_SKILLS_DIR=/nonexistent/marvin-phone-test"};
+              o.environment.insert(o.environment.end(), environment.begin(), environment.end());
               return o;
             }()) {
     process.wait_for_line("Marvin: Hello, I'm Marvin.");
@@ -353,6 +355,36 @@ TEST_CASE("run --sim --no-phone: calls are refused in words") {
   m.say("call my daughter");
   m.expect("I can't make the call: this robot has no telephone.");
   CHECK(test_support::exit_code(m.process.finish()) == 0);
+}
+
+// SIGTERM (systemd stopping the service, a `kill`) is a clean stop, not a death: the call
+// ends, baresip goes, and the phone's files in the temporary directory go with it. The
+// input stays open: the signal alone ends Marvin.
+TEST_CASE("run --sim stopped with SIGTERM during a call: baresip ends, its files go, exit 0") {
+  test_support::TempDir data;
+  test_support::TempDir tmp;
+  Marvin m(data, {}, {"TMPDIR=" + tmp.path().string()});
+  m.say("call my daughter");
+  m.expect("Call Anna?");
+  m.say("yes");
+  m.expect("You're connected to Anna.");
+  const std::vector<pid_t> children = baresip_children(m.process.pid());
+  REQUIRE(children.size() == 2);
+  bool phone_files = false;
+  for (const auto& e : std::filesystem::directory_iterator(tmp.path())) {
+    phone_files = phone_files || e.path().filename().string().rfind("marvin-phone-", 0) == 0;
+  }
+  REQUIRE(phone_files);
+  REQUIRE(::kill(m.process.pid(), SIGTERM) == 0);
+  // The output ends when Marvin exits; stdin is still open.
+  CHECK_FALSE(m.process.read_until([](const std::string&) { return false; }));
+  CHECK(test_support::exit_code(m.process.finish()) == 0);
+  CHECK(m.process.output().find("[SIGTERM: stopping]") != std::string::npos);
+  for (pid_t child : children) {
+    CAPTURE(child);
+    CHECK(process_ends(child, testing::kWait));
+  }
+  CHECK(std::filesystem::is_empty(tmp.path()));
 }
 
 }  // namespace

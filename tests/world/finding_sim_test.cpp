@@ -2,6 +2,7 @@
 // a user types: Anna is enrolled by voice first; Sam (the world's visitor, face-api's
 // sample2) is a face nobody enrolled. Real process, real camera pipeline, real SQLite.
 #include <doctest/doctest.h>
+#include <signal.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -124,6 +125,26 @@ TEST_CASE("run --sim: guide me to the kitchen arrives without a collision; the s
          answer.find("Marvin: No: ") == 0));
   CHECK(exit_code(marvin.finish()) == 0);
   CHECK(marvin.output().find("[collision") == std::string::npos);
+}
+
+// Ctrl-C (SIGINT) while a task runs stops it as "stop" does and ends Marvin, the input
+// still open (a terminal where nobody typed Ctrl-D). Real time (no --speed): the walk to
+// the kitchen takes long enough to be under way.
+TEST_CASE("run --sim: SIGINT while guiding stops the guide and ends Marvin with exit 0") {
+  marvin::test_support::TempDir dir;
+  fs::create_directories(dir.path() / "skills");
+  ChildProcess marvin({MARVIN_EXE, "run", "--sim", "--in-memory", "--skills-dir",
+                       (dir.path() / "skills").string()});
+  marvin.wait_for_line("Marvin: Hello, I'm Marvin.");
+  marvin.send_line("guide me to the kitchen");
+  marvin.wait_for_line(
+      "Marvin: Follow me to the kitchen. I'll go slowly and tell you what's ahead.");
+  REQUIRE(::kill(marvin.pid(), SIGINT) == 0);
+  marvin.wait_for_line("[SIGINT: stopping]");
+  marvin.wait_for_line("Marvin: OK, I stopped.");
+  CHECK_FALSE(marvin.read_until([](const std::string&) { return false; }));  // it exited
+  CHECK(exit_code(marvin.finish()) == 0);
+  CHECK(marvin.output().find("We're there") == std::string::npos);
 }
 
 // Object finding with what the COCO detector names in the default home (the bicycle in the
