@@ -171,6 +171,9 @@ class ScheduleSkill : public marvin::Skill {
     }
     if (request.intent == "agenda_today") return agenda(today());
     if (request.intent == "when_is") return when_is(request.slots.at("task").get<std::string>());
+    if (request.intent == "how_long") {
+      return when_is(request.slots.at("task").get<std::string>(), /*how_long=*/true);
+    }
     if (request.intent == "cancel") return cancel(request.slots.at("task").get<std::string>());
     if (request.intent == "move") return move(request);
     if (request.intent == "snooze") return snooze(request);
@@ -526,8 +529,9 @@ class ScheduleSkill : public marvin::Skill {
   }
 
   // "when is my dentist appointment" -> the soonest that matches; "my next appointment" ->
-  // the soonest of all.
-  void when_is(const std::string& task) {
+  // the soonest of all. `how_long` ("how long until my appointment") says first how long
+  // it is from now.
+  void when_is(const std::string& task, bool how_long = false) {
     const std::vector<std::string> wanted =
         wanted_words(task, {"next", "appointment", "appointments", "reminder", "event", "thing",
                             "on", "calendar", "schedule", "of", "in", "have", "need", "got"});
@@ -538,8 +542,31 @@ class ScheduleSkill : public marvin::Skill {
                       : "I don't see your " + second_person(task) + " on your schedule.");
       return;
     }
-    robot().say(capital(second_person(hits[0].value("title", ""))) + ": " + spoken_when(hits[0]) +
-                ".");
+    const std::string title = capital(second_person(hits[0].value("title", "")));
+    if (!how_long) return robot().say(title + ": " + spoken_when(hits[0]) + ".");
+    const std::int64_t next = hits[0].value("next_fire_utc_ms", std::int64_t{0});
+    robot().say(title + ": " + time_until(next, parse_local(hits[0].at("at").get<std::string>())) +
+                ", " + spoken_when(hits[0]) + ".");
+  }
+
+  // "in 25 minutes", "in 2 hours and 10 minutes", "in about 5 hours" (also tomorrow's),
+  // "in 3 days" (by the calendar: Thursday is in 3 days on a Monday evening too), "in about
+  // 3 weeks".
+  std::string time_until(std::int64_t utc_ms, const LocalTime& at) {
+    const std::int64_t minutes = std::max<std::int64_t>(0, (utc_ms - robot().now_ms()) / 60000);
+    const auto days = (at.day - today()).count();
+    auto count = [](std::int64_t n, const char* unit) {
+      return std::to_string(n) + " " + unit + (n == 1 ? "" : "s");
+    };
+    if (minutes < 1) return "in less than a minute";
+    if (minutes < 60) return "in " + count(minutes, "minute");
+    if (days <= 1 && minutes < 3 * 60) {
+      const std::int64_t m = minutes % 60;
+      return "in " + count(minutes / 60, "hour") + (m ? " and " + count(m, "minute") : "");
+    }
+    if (days <= 1) return "in about " + count((minutes + 30) / 60, "hour");  // 26 h: no "1 day"
+    if (days < 14) return "in " + count(days, "day");
+    return "in about " + count((days + 3) / 7, "week");
   }
 
   // Added at the new time before the old one is removed: if the host fails in between, the

@@ -152,6 +152,36 @@ TEST_CASE("when is my dentist appointment; my next appointment; the calendar sai
   CHECK(reminders(h).size() == 2);
 }
 
+TEST_CASE("how long until my appointment: from now, then when; days by the calendar") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);  // Monday 10:00
+  CHECK(h.intent_of("how long until my appointment") == "schedule/how_long");
+  CHECK(h.intent_of("how many days till my next appointment") == "schedule/how_long");
+  CHECK(h.intent_of("how soon is my doctor's appointment") == "schedule/how_long");
+  CHECK(h.say("how long until my next appointment") == Lines{"You have nothing on your schedule."});
+  h.say("add the dentist appointment to my calendar on friday at 3 pm");
+  CHECK(h.say("how many days until my dentist appointment") ==
+        Lines{"The dentist appointment: in 4 days, on Friday, 9 January at 3 PM."});
+  h.say("remind me to call the bank at 11:25");
+  CHECK(h.say("how long is it until my next appointment?") ==
+        Lines{"Call the bank: in 1 hour and 25 minutes, today at 11:25 AM."});
+  h.say("remind me every day at 9 to take my pills");
+  CHECK(h.say("how long till my pills") ==
+        Lines{"Take your pills: in about 23 hours, every day at 9 AM."});
+  h.say("add the eye test to my calendar on the 30th of january at 9 am");
+  CHECK(h.say("how long until my eye test") ==
+        Lines{"The eye test: in about 4 weeks, on Friday, 30 January at 9 AM."});
+  CHECK(h.say("how long until my hair appointment") ==
+        Lines{"I don't see your hair appointment on your schedule."});
+  CHECK(reminders(h).size() == 4);  // asking changed nothing
+}
+
+TEST_CASE("when did I last take my pills: what was marked done today") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  CHECK(h.intent_of("when did I last take my pills") == "schedule/was_done");
+  CHECK(h.intent_of("what time did I take my tablets") == "schedule/was_done");
+}
+
 TEST_CASE("I have a doctor's appointment on Friday at 10:30: told as news, put on the calendar") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   berlin(h);
