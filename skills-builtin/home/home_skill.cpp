@@ -93,6 +93,11 @@ class HomeSkill : public marvin::Skill {
       return query(*home, device, yes_no_question(request.utterance));
     }
     if (intent == "all_off") return all_off(*home, text("room"));
+    if (intent == "what_is_on") {
+      const std::vector<std::string> w = marvin_home_skill::words(request.utterance);
+      const bool all_off = std::find(w.begin(), w.end(), "off") != w.end();
+      return what_is_on(*home, text("room"), all_off);
+    }
   }
 
  private:
@@ -219,9 +224,12 @@ class HomeSkill : public marvin::Skill {
   }
 
   void report(const std::vector<json>& done) {
-    if (done.empty()) return;
-    // Several now alike ("The hall light, the kitchen light and the bedroom light are off."):
-    // each name once, the state once.
+    if (!done.empty()) robot().say(capital(states(done)) + ".");
+  }
+
+  // "the hall light, the kitchen light and the bedroom light are off": several now alike
+  // each named once with the state once; else each with its own state.
+  static std::string states(const std::vector<json>& done) {
     const json first_on = done[0].value("on", json());
     const bool alike = done.size() > 1 && first_on.is_boolean() &&
                        std::all_of(done.begin(), done.end(), [&](const json& d) {
@@ -229,21 +237,13 @@ class HomeSkill : public marvin::Skill {
                                 describe(d) == "the " + d.value("name", "") +
                                                    (first_on.get<bool>() ? " is on" : " is off");
                        });
-    if (alike) {
-      std::string names;
-      for (std::size_t i = 0; i < done.size(); ++i) {
-        if (i > 0) names += i + 1 == done.size() ? " and " : ", ";
-        names += "the " + done[i].value("name", "");
-      }
-      robot().say(capital(names) + (first_on.get<bool>() ? " are on." : " are off."));
-      return;
-    }
     std::string text;
     for (std::size_t i = 0; i < done.size(); ++i) {
       if (i > 0) text += i + 1 == done.size() ? " and " : ", ";
-      text += describe(done[i]);
+      text += alike ? "the " + done[i].value("name", "") : describe(done[i]);
     }
-    robot().say(capital(text) + ".");
+    if (alike) text += first_on.get<bool>() ? " are on" : " are off";
+    return text;
   }
 
   void switch_devices(const json& home, const std::string& phrase, bool on) {
@@ -332,13 +332,21 @@ class HomeSkill : public marvin::Skill {
     report(devices);
   }
 
-  void all_off(const json& home, std::string room) {
+  // The room a request names: "" for the whole home (none named, or "the house"); the
+  // robot's room for "in here".
+  static std::string named_room(const json& home, std::string room) {
     room = marvin_home_skill::tidy(room);
-    if (room.empty() || room == "here" || room == "this room") room = home.value("room", "");
-    // "everything off in the house": every room.
+    if (marvin_home_skill::means_this_room(room)) return home.value("room", "");
     const std::vector<std::string> said = marvin_home_skill::words(room);
-    const bool everywhere =
-        !said.empty() && std::all_of(said.begin(), said.end(), marvin_home_skill::everywhere_word);
+    if (std::all_of(said.begin(), said.end(), marvin_home_skill::everywhere_word)) return "";
+    return room;
+  }
+
+  // "Switch everything off" with no room named is the whole home (going to bed, going out);
+  // "in here" is the robot's room.
+  void all_off(const json& home, std::string room) {
+    room = named_room(home, room);
+    const bool everywhere = room.empty();
     if (everywhere) room = "house";
     std::vector<json> devices;
     for (const json& d : home["devices"]) {
@@ -355,6 +363,27 @@ class HomeSkill : public marvin::Skill {
       if (!command(d, json{{"on", false}})) ++failed;
     }
     if (failed == 0) robot().say("Everything in the " + room + " is off.");
+  }
+
+  // "Is anything still on?" / "is everything off?": the lights and switches that are on,
+  // in the room named or in the whole home. The heating is not counted: it is meant to
+  // stay on.
+  void what_is_on(const json& home, const std::string& room_said, bool asked_all_off) {
+    const std::string room = named_room(home, room_said);
+    std::vector<json> on;
+    bool known_room = room.empty();
+    for (const json& d : home["devices"]) {
+      if (!room.empty() && d.value("room", "") != room) continue;
+      known_room = true;
+      if (!is_thermostat(d) && d.value("on", json()) == json(true)) on.push_back(d);
+    }
+    if (!known_room) return robot().say("I don't know any devices in the " + room + ".");
+    remember(on);  // "turn them off"
+    if (on.empty()) {
+      return robot().say(std::string(asked_all_off ? "Yes, " : "No, ") + "everything" +
+                         (room.empty() ? "" : " in the " + room) + " is off.");
+    }
+    robot().say(asked_all_off ? "No, " + states(on) + "." : capital(states(on)) + ".");
   }
 
   // --- the heating ---------------------------------------------------------------------

@@ -269,6 +269,50 @@ TEST_CASE("everything off leaves the heating on; turning the heating off is said
         Lines{"No, the living room thermostat is off."});
 }
 
+TEST_CASE("switch everything off with no room named: the whole home, the heating left on") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  heated_world(h);
+  h.robot().set_room("hall");
+  h.say("turn on the kitchen light");
+  h.say("turn on the tv");
+  h.robot().clear();
+  CHECK(h.say("switch everything off") == Lines{"Everything in the house is off."});
+  CHECK(state(h, "kitchen")["on"] == false);
+  CHECK(state(h, "tv")["on"] == false);
+  CHECK(state(h, "lrt")["on"] == true);
+  h.say("turn on the kitchen light");
+  h.say("turn on the hall light");
+  CHECK(h.say("turn everything off in here") == Lines{"Everything in the hall is off."});
+  CHECK(state(h, "hall")["on"] == false);
+  CHECK(state(h, "kitchen")["on"] == true);  // not the robot's room
+}
+
+TEST_CASE("is anything still on: what is on, in the home or a room; the heating not counted") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  heated_world(h);
+  h.robot().set_room("hall");
+  CHECK(h.intent_of("is anything still on") == "home/what_is_on");
+  CHECK(h.intent_of("which lights are on") == "home/what_is_on");
+  CHECK(h.intent_of("did I leave anything on") == "home/what_is_on");
+  CHECK(h.intent_of("is everything off") == "home/what_is_on");
+  CHECK(h.intent_of("is the kitchen light on") == "home/query");
+  CHECK(h.say("is anything still on") == Lines{"No, everything is off."});
+  CHECK(h.say("is everything off?") == Lines{"Yes, everything is off."});
+  h.say("turn on the kitchen light");
+  h.say("turn on the tv");
+  h.robot().clear();
+  CHECK(h.say("which lights are on") == Lines{"The kitchen light and the tv are on."});
+  CHECK(h.say("is everything off?") == Lines{"No, the kitchen light and the tv are on."});
+  CHECK(h.say("is anything on in the kitchen") == Lines{"The kitchen light is on."});
+  CHECK(h.say("are any lights on in the bedroom") == Lines{"No, everything in the bedroom is off."});
+  CHECK(h.say("what's on in the garage") == Lines{"I don't know any devices in the garage."});
+  CHECK(sent(h).empty());  // asking changes nothing
+  // "Them" are the devices just named.
+  CHECK(h.say("which lights are on") == Lines{"The kitchen light and the tv are on."});
+  CHECK(h.say("turn them off") == Lines{"The kitchen light and the tv are off."});
+  CHECK(state(h, "kitchen")["on"] == false);
+}
+
 TEST_CASE("no thermostat: warmth requests say so and send nothing") {
   marvin::testing::SkillHarness h(HOME_SKILL_DIR);
   world(h);
