@@ -74,7 +74,9 @@ class HomeSkill : public marvin::Skill {
         about_heating(request.utterance) || !last_thermostats(*home, text("device")).empty();
     if (intent == "set_level") {
       int level = request.slots.value("level", -1);
-      if (heating) return set_temperature(*home, text("device"), level);
+      if (heating || room_set_point(*home, text("device"), level)) {
+        return set_temperature(*home, text("device"), level);
+      }
       return set_level(*home, text("device"), level);
     }
     if (intent == "warmer" || intent == "cooler") {
@@ -387,6 +389,20 @@ class HomeSkill : public marvin::Skill {
   }
 
   // --- the heating ---------------------------------------------------------------------
+
+  // "Set the bedroom to 19": only a room named, and a number its thermostat takes, is the
+  // heating (nobody sets the lights of a room to 19 percent in those words).
+  static bool room_set_point(const json& home, const std::string& phrase, int level) {
+    const std::string room = marvin_home_skill::tidy(phrase);
+    if (room.empty() || level < 0) return false;
+    for (const json& d : home["devices"]) {
+      if (is_thermostat(d) && d.value("room", "") == room &&
+          level >= d.value("min_temperature", 5.0) && level <= d.value("max_temperature", 30.0)) {
+        return true;
+      }
+    }
+    return false;
+  }
 
   // The thermostats `phrase` means: a room ("in the bedroom"), a thermostat's name or "the
   // heating"; nothing said: the one in the robot's room, else the home's only one, else

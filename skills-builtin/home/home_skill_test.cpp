@@ -313,6 +313,18 @@ TEST_CASE("is anything still on: what is on, in the home or a room; the heating 
   CHECK(state(h, "kitchen")["on"] == false);
 }
 
+TEST_CASE("set the bedroom to 19: a room alone and a set point its thermostat takes") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  heated_world(h);
+  CHECK(h.say("set the bedroom to 19") ==
+        Lines{"The bedroom thermostat is on, set to 19 degrees. It's 17 degrees in the bedroom."});
+  CHECK(state(h, "bt")["target_temperature"] == 19);
+  CHECK(state(h, "bed")["on"] != json(true));  // the light untouched
+  // Out of the thermostat's range, or a device named: the lights as before.
+  CHECK(h.say("set the bedroom light to 19") == Lines{"The bedroom light is on, at 19 percent."});
+  CHECK(state(h, "bt")["target_temperature"] == 19);
+}
+
 TEST_CASE("no thermostat: warmth requests say so and send nothing") {
   marvin::testing::SkillHarness h(HOME_SKILL_DIR);
   world(h);
