@@ -176,9 +176,25 @@ bool HostLoop::stop_queued() const {
 }
 
 void HostLoop::route(std::string line) {
+  // A call for help while a task runs or asks: the task is stopped, not waited for, and the
+  // call is no answer to its question. Checked unlocked: the interpreter takes a while.
+  const bool urgent = manager_ && manager_->busy() && manager_->urgent(line);
   std::unique_lock lock(mutex_);
   if (shutting_down_) {  // taken just before shut_down(): dropped with the rest
     holding_ = false;
+    return;
+  }
+  if (urgent) {
+    holding_ = false;
+    lock.unlock();
+    manager_->stop();
+    while (!manager_->wait_idle(std::chrono::hours{1})) {
+    }
+    lock.lock();
+    if (shutting_down_) return;
+    interrupted_ = false;  // a new conversation starts
+    lock.unlock();
+    manager_->handle(line);
     return;
   }
   if (!manager_ || is_stop(line)) {

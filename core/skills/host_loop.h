@@ -5,6 +5,8 @@
 // post() may be called from any thread (the console reader); run() is the loop and owns
 // the thread that calls Manager::handle(). Utterances are taken in order; each one goes:
 //   - "stop": to the manager at once (it cancels whatever runs);
+//   - a request of an "urgent" intent (a call for help) while a task runs or asks: the task
+//     is stopped as by "stop", then the request is handled;
 //   - while a long task runs: held until the task asks a question (the utterance is the
 //     answer) or ends (the utterance starts the next conversation). A "stop" queued behind
 //     a held utterance is taken first: stop always wins;

@@ -272,7 +272,7 @@ void Manager::handle(std::string_view utterance) {
   } else if (understood.outcome == interpret::Understanding::Outcome::kAsk) {
     // A wrong action is worse than a question.
     match = clarify(understood.choices);
-    if (!match) return;
+    if (!match) return handle_next_request();
   }
   if (!match) {
     // At most the first 200 bytes: a 1 MB line must not flood the log.
@@ -291,8 +291,8 @@ void Manager::handle(std::string_view utterance) {
     say(no_match_sentence());
     return;
   }
-  if (!fill_slots(*intent, *match, utterance)) return;
-  if (intent->confirm && !confirm(*intent, *match)) return;
+  if (!fill_slots(*intent, *match, utterance)) return handle_next_request();
+  if (intent->confirm && !confirm(*intent, *match)) return handle_next_request();
   run(*skill, *intent, *match, std::string(utterance));
 }
 
@@ -314,6 +314,8 @@ bool Manager::fill_slots(const IntentDecl& intent, interpret::Match& match,
       if (auto value = interpreter.parse_slot(spec, *answer, context(), utterance)) {
         match.slots[slot.name] = *value;
         filled = true;
+      } else if (takes_as_request(*answer)) {
+        return false;
       }
     }
     if (!filled) {
@@ -387,8 +389,38 @@ std::optional<interpret::Match> Manager::clarify(const std::vector<interpret::Ma
       }
     }
   }
+  if (takes_as_request(*answer)) return std::nullopt;
   say("Sorry, I didn't get that. Please ask me again.");
   return std::nullopt;
+}
+
+bool Manager::takes_as_request(const std::string& answer) {
+  const interpret::Understanding u = registry_.interpreter().understand(answer, context());
+  if (u.outcome != interpret::Understanding::Outcome::kMatch || u.match->confidence < 1.0F) {
+    return false;
+  }
+  say("OK, I'll leave that.");
+  next_request_ = answer;
+  return true;
+}
+
+void Manager::handle_next_request() {
+  if (!next_request_) return;
+  const std::string next = std::move(*next_request_);
+  next_request_.reset();
+  handle(next);
+}
+
+bool Manager::urgent(std::string_view utterance) const {
+  const interpret::Understanding u = registry_.interpreter().understand(utterance, context());
+  if (u.outcome != interpret::Understanding::Outcome::kMatch || u.match->confidence < 1.0F) {
+    return false;
+  }
+  const LoadedSkill* skill = registry_.find(u.match->skill_id);
+  const IntentDecl* intent = skill ? skill->manifest.intent(u.match->intent) : nullptr;
+  std::lock_guard lock(mutex_);
+  // "Help! Help!": a second call for help does not stop the first.
+  return intent && intent->urgent && !(busy_ && running_urgent_);
 }
 
 bool Manager::confirm(const IntentDecl& intent, const interpret::Match& match) {
@@ -408,6 +440,7 @@ bool Manager::confirm(const IntentDecl& intent, const interpret::Match& match) {
         stop();
         return false;
       default:
+        if (takes_as_request(*answer)) return false;
         break;
     }
   }
@@ -426,6 +459,7 @@ void Manager::run(LoadedSkill& skill, const IntentDecl& intent, const interpret:
     std::lock_guard lock(mutex_);
     running_ = &skill;
     running_stopped_ = intent.stopped;
+    running_urgent_ = intent.urgent;
     timed_out_ = false;
   }
   if (intent.execution == Execution::kShort || options_.run_long_inline) {

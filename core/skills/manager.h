@@ -81,6 +81,11 @@ class Manager : public User {
   void on_voice_style(std::function<void(VoiceStyle)> hook) { voice_hook_ = std::move(hook); }
   VoiceStyle voice_style() const { return voice_style_; }  // the host loop's thread
 
+  // Whether `utterance` is, word for word, a request of an intent marked "urgent" (a call
+  // for help) and the task running, if any, is not one: the host loop lets it stop that
+  // task. The host loop's thread only.
+  bool urgent(std::string_view utterance) const;
+
   // True while a long task runs on the worker.
   bool busy() const;
   // Waits until no long task runs; false if `timeout` passed first.
@@ -109,6 +114,12 @@ class Manager : public User {
   // "Did you want a reminder or your schedule?": the chosen reading, or nullopt after "no",
   // "stop" or an answer naming neither.
   std::optional<interpret::Match> clarify(const std::vector<interpret::Match>& choices);
+  // An answer to the manager's own question (a slot, yes or no, which of two) that does not
+  // answer it but is a request word for word ("When should I remind you?" "What's on my
+  // calendar this week?"): the question is dropped and handle() takes it next. True then.
+  bool takes_as_request(const std::string& answer);
+  void handle_next_request();               // handle() of it, if there is one
+  std::optional<std::string> next_request_;  // the host loop's thread
   // How the user would name an intent: its "description", else skill name and intent.
   std::string describe(const interpret::Match& match) const;
   void run(LoadedSkill& skill, const IntentDecl& intent, const interpret::Match& match,
@@ -134,6 +145,7 @@ class Manager : public User {
   bool cancelled_ = false;          // guarded by mutex_: "stop" during this conversation
   LoadedSkill* running_ = nullptr;  // guarded by mutex_: the skill acting now
   std::string running_stopped_;     // guarded by mutex_: its intent's "stopped" sentence
+  bool running_urgent_ = false;     // guarded by mutex_: its intent is "urgent"
   std::string last_said_;           // guarded by mutex_
   std::atomic<std::size_t> refusals_{0};  // refusals so far
   std::thread worker_;

@@ -383,6 +383,9 @@ Manifest parse_manifest(const json& document, const std::string& file) {
     if (const json* t = r.optional(in, path, "stopped", json::value_t::string, "a string")) {
       intent.stopped = t->get<std::string>();
     }
+    if (const json* u = r.optional(in, path, "urgent", json::value_t::boolean, "true or false")) {
+      intent.urgent = u->get<bool>();
+    }
     if (intent.confirm && intent.confirm_question.empty()) {
       intent.confirm_question = "Shall I go ahead?";
     }

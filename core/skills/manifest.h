@@ -94,6 +94,9 @@ struct IntentDecl {
   bool confirm = false;
   std::string confirm_question;  // default "Shall I go ahead?"
   std::string stopped;  // said when "stop" ends this task; "" = "OK, I stopped." (optional)
+  // Said while another task runs or asks, a request of this intent (word for word) stops
+  // that task and runs at once: a call for help must not wait for a search to end.
+  bool urgent = false;
   Execution execution = Execution::kShort;
   std::int64_t time_limit_ms = 60'000;
 

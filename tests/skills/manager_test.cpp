@@ -72,6 +72,15 @@ class Walker : public marvin::Skill {
   }
 };
 
+class Rescuer : public marvin::Skill {
+ public:
+  using Skill::Skill;
+  void handle(const marvin::Request&) override {
+    robot().say("Calling for help.");
+    robot().move(MARVIN_FORWARD, 80, std::chrono::minutes(10));  // until stopped
+  }
+};
+
 Manifest manifest(const char* text) { return parse_manifest(json::parse(text), "test/skill.json"); }
 
 const char* kGreeter = R"({"id": "greeter", "name": "Greeter", "version": "1.0.0", "kind": "native",
@@ -96,6 +105,14 @@ const char* kSeeker = R"({"id": "seeker", "name": "Seeker", "version": "1.0.0", 
   "host_api": {"min": "1.0"}, "permissions": ["motion"], "intents": [
    {"name": "search", "templates": ["search the house"], "execution": "long",
     "stopped": "All right, I stopped looking."}]})";
+const char* kRescuer = R"({"id": "rescuer", "name": "Rescuer", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "permissions": ["motion"], "intents": [
+   {"name": "help", "templates": ["call for help"], "execution": "long", "urgent": true}]})";
+// Added only where used (with Caller's handler).
+const char* kAlarm = R"({"id": "alarm", "name": "Alarm", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "intents": [
+   {"name": "alarm", "templates": ["set an alarm [for {who}]"],
+    "slots": [{"name": "who", "type": "datetime", "required": true, "question": "For when?"}]}]})";
 const char* kSlowWalker =
     R"({"id": "slow", "name": "Slow Walker", "version": "1.0.0", "kind": "native",
   "host_api": {"min": "1.0"}, "permissions": ["motion"], "intents": [
@@ -366,6 +383,20 @@ TEST_CASE("each refusal offers the next skill's example, round and round") {
   for (std::size_t i = round; i < offered.size(); ++i) CHECK(offered[i] == offered[i - round]);
 }
 
+TEST_CASE("a request instead of an answer to the manager's question: the question is dropped") {
+  Dialogue d;
+  d.registry.add_native(manifest(kAlarm), marvin::skill_descriptor<Caller>("alarm"));
+  // Confirmation: neither yes nor no, but a request word for word.
+  CHECK(d.turn("call Anna", {"say hello to Ann"}) ==
+        Lines{"Shall I call Anna?", "OK, I'll leave that.", "Hello, ann!"});
+  // A slot whose answer does not parse.
+  CHECK(d.turn("set an alarm", {"say hello to Bob"}) ==
+        Lines{"For when?", "OK, I'll leave that.", "Hello, bob!"});
+  // Not a request word for word: asked again, as before.
+  CHECK(d.turn("call Anna", {"maybe later on", "yes"}) ==
+        Lines{"Shall I call Anna?", "Please answer yes or no. Shall I call Anna?", "Calling Anna."});
+}
+
 TEST_CASE("a short skill's question is answered on the host loop") {
   Dialogue d;
   CHECK(d.turn("let us chat", {"green"}) ==
@@ -482,6 +513,49 @@ TEST_CASE("shut_down with nothing running says nothing") {
   s.loop.shut_down();
   s.thread.join();
   CHECK(s.said == Lines{"Hello, ann!"});
+}
+
+TEST_CASE("a call for help while a long skill runs stops it and calls at once") {
+  g_walks_cancelled = 0;
+  Session s;
+  s.registry.add_native(manifest(kRescuer), marvin::skill_descriptor<Rescuer>("rescuer"));
+  s.loop.post("go for a walk");
+  REQUIRE(s.body.wait_for("move"));
+  s.loop.post("call for help");  // not held until the walk ends
+  REQUIRE(s.wait_said("Calling for help."));
+  CHECK(g_walks_cancelled == 1);
+  s.loop.shut_down();
+  s.thread.join();
+  CHECK(s.said == Lines{"OK, I stopped.", "Calling for help.", "OK, I stopped."});
+}
+
+TEST_CASE("a call for help is no answer to a long skill's question") {
+  Session s;
+  s.registry.add_native(manifest(kRescuer), marvin::skill_descriptor<Rescuer>("rescuer"));
+  s.loop.post("run an errand");
+  REQUIRE(s.wait_said("Where to?"));
+  s.loop.post("call for help");
+  REQUIRE(s.wait_said("Calling for help."));
+  s.loop.shut_down();
+  s.thread.join();
+  CHECK(std::find(s.said.begin(), s.said.end(), "Going to the call for help.") == s.said.end());
+  REQUIRE(s.said.size() >= 3);
+  CHECK(s.said[0] == "Where to?");
+  CHECK(s.said[1] == "OK, I stopped.");
+  CHECK(s.said[2] == "Calling for help.");
+}
+
+TEST_CASE("a second call for help does not stop the first; it waits, stop goes first") {
+  Session s;
+  s.registry.add_native(manifest(kRescuer), marvin::skill_descriptor<Rescuer>("rescuer"));
+  s.loop.post("call for help");
+  REQUIRE(s.body.wait_for("move"));
+  s.loop.post("call for help");  // held: the first call goes on
+  s.loop.post("stop");
+  REQUIRE(s.body.wait_for("move", 2));  // the held one runs after the stop
+  s.loop.shut_down();
+  s.thread.join();
+  CHECK(s.said == Lines{"Calling for help.", "OK, I stopped.", "Calling for help.", "OK, I stopped."});
 }
 
 TEST_CASE("a long skill's question is answered by the next utterance") {

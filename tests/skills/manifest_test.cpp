@@ -24,7 +24,7 @@ json valid() {
       {"name": "roll", "templates": ["roll [a] (die|dice)", "roll {count} dice"],
        "slots": [{"name": "count", "type": "number", "required": true, "question": "How many?"}],
        "confirm": true, "confirm_question": "Roll {count}?", "execution": "long", "time_limit_s": 5,
-       "stopped": "All right, I stopped rolling."},
+       "stopped": "All right, I stopped rolling.", "urgent": true},
       {"name": "pick", "templates": ["pick the {colour} one"],
        "slots": [{"name": "colour", "type": "list", "values": ["red", "light blue"]}]}
     ]})json");
@@ -69,6 +69,8 @@ TEST_CASE("a valid manifest: every field read, defaults filled in") {
   CHECK_FALSE(m.intents[1].confirm);
   CHECK(roll.stopped == "All right, I stopped rolling.");
   CHECK(m.intents[1].stopped.empty());  // the manager then says "OK, I stopped."
+  CHECK(roll.urgent);
+  CHECK_FALSE(m.intents[1].urgent);
 
   CHECK(m.accepts_host_api({1, 0}));
   CHECK(m.accepts_host_api({1, 4}));
@@ -112,6 +114,11 @@ TEST_CASE("wrong types and values are named with their path") {
   d["intents"][0]["stopped"] = true;
   CHECK(error_of(d) ==
         "skills/dice/skill.json: $.intents[0].stopped: expected a string, got a boolean");
+
+  d = valid();
+  d["intents"][0]["urgent"] = "yes";
+  CHECK(error_of(d) ==
+        "skills/dice/skill.json: $.intents[0].urgent: expected true or false, got a string");
 
   d = valid();
   d["version"] = 1;
