@@ -117,6 +117,11 @@ class TimeReader {
         }
         at_ = start;
       }
+      if (!have_part && !phrase.evening && read_meal_time(phrase)) {
+        have_part = true;
+        continue;
+      }
+      at_ = start;
       if (!have_part && !phrase.evening) {
         bool today = false;
         if (read_part_of_day(phrase, today)) {
@@ -299,6 +304,42 @@ class TimeReader {
       }
     }
     return false;
+  }
+
+  // "after lunch", "with breakfast", "before dinner", "at bedtime", "before going to bed":
+  // pills are taken with meals, so people tie reminders to them. The hour a household
+  // usually eats at (breakfast 8, lunch 12, tea 16, dinner or supper 18, bed 21), an hour
+  // earlier for "before", later for "after"; said back, so the user hears what was set.
+  bool read_meal_time(TimePhrase& phrase) {
+    int shift = 0;
+    if (accept("after")) {
+      shift = 1;
+    } else if (accept("before")) {
+      shift = -1;
+    } else {
+      (void)(accept("at") || accept("with") || accept("around") || accept("by"));
+    }
+    (void)(accept("my") || accept("the") || accept("your"));
+    int hour = -1;
+    bool bed = false;
+    if (accept("breakfast") || accept("breakfasttime")) {
+      hour = 8;
+    } else if (accept("lunch") || accept("lunchtime") || accept("luncheon")) {
+      hour = 12;
+    } else if (accept("teatime") || accept_seq({"afternoon", "tea"})) {
+      hour = 16;
+    } else if (accept("dinner") || accept("supper") || accept("dinnertime") ||
+               accept("suppertime")) {
+      hour = 18;
+    } else if (accept("bedtime") || accept("bed") || accept_seq({"going", "to", "bed"})) {
+      hour = 21;
+      bed = true;
+    }
+    if (hour < 0 || (bed && shift > 0)) return false;  // "after bed" is no time
+    (void)accept("time");
+    if (!bed) hour += shift;
+    set_part(phrase, hour < 12, hour);
+    return true;
   }
 
   static void set_part(TimePhrase& phrase, bool morning, int hour) {

@@ -100,6 +100,16 @@ TEST_CASE("time expressions: table against Friday 2024-03-29 10:00 Europe/Berlin
       {"every morning at 7", "2024-03-30T07:00", "daily"},
       {"every morning", "2024-03-30T09:00", "daily"},
       {"every evening", "2024-03-29T19:00", "daily"},
+      // Meals and bed (Friday 10:00): the usual hour, one earlier "before", one later "after".
+      {"after lunch", "2024-03-29T13:00", "once"},
+      {"at lunchtime", "2024-03-29T12:00", "once"},
+      {"before breakfast", "2024-03-30T07:00", "once"},
+      {"every day with breakfast", "2024-03-30T08:00", "daily"},
+      {"tomorrow after dinner", "2024-03-30T19:00", "once"},
+      {"before supper", "2024-03-29T17:00", "once"},
+      {"at bedtime", "2024-03-29T21:00", "once"},
+      {"before going to bed", "2024-03-29T21:00", "once"},
+      {"every day before bed", "2024-03-29T21:00", "daily"},
       {"every night at 10", "2024-03-29T22:00", "daily"},
       {"every day in the evening", "2024-03-29T19:00", "daily"},
   };
@@ -263,7 +273,8 @@ TEST_CASE("time expressions: not times") {
     CHECK(when(text, context).is_null());
   }
   // Parts of the day: one at most, one day at most, never with a week or an interval.
-  for (const char* text : {"morning morning", "this evening tomorrow", "tonight in the morning",
+  for (const char* text : {"after bed", "after lunch after dinner", "with", "before the",
+                           "morning morning", "this evening tomorrow", "tonight in the morning",
                            "next week in the morning", "every 2 hours in the evening"}) {
     CAPTURE(text);
     CHECK(when(text, context).is_null());
