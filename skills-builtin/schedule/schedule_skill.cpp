@@ -787,8 +787,17 @@ class ScheduleSkill : public marvin::Skill {
   }
 
   void add_contact(const marvin::Request& request) {
-    const std::string name = capitalised(request.slots.at("name").get<std::string>());
-    const std::string heard = request.slots.at("number").get<std::string>();
+    std::string said_name = request.slots.at("name").get<std::string>();
+    // "save Tom's number as ...": the name is Tom.
+    if (said_name.size() > 2 && said_name.compare(said_name.size() - 2, 2, "'s") == 0) {
+      said_name.resize(said_name.size() - 2);
+    }
+    const std::string name = capitalised(said_name);
+    // "with the number 12": the template's optional words may land in the slot.
+    std::string heard = request.slots.at("number").get<std::string>();
+    for (const char* lead : {"with ", "the ", "phone ", "number ", "is "}) {
+      if (heard.rfind(lead, 0) == 0) heard.erase(0, std::string(lead).size());
+    }
     std::string number;
     int digits = 0;
     for (const std::string& w : words_of(lower(heard))) {

@@ -263,6 +263,20 @@ TEST_CASE("add a contact asks name and number; what is Anna's number") {
   CHECK(h.say("what is Carla's number") == Lines{"I don't have a contact called Carla."});
 }
 
+TEST_CASE("add a contact in one sentence: name and number from it, only what is missing asked") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  CHECK(h.say("add Peter as a contact, his number is 0123 456") ==
+        Lines{"OK, I added Peter with the number 0 1 2 3, 4 5 6."});
+  CHECK(h.say("save Tom's number as 0171 234") ==
+        Lines{"OK, I added Tom with the number 0 1 7 1, 2 3 4."});
+  CHECK(h.say("add Mary to my contacts", {"0301 555"}) ==
+        Lines{"What is their phone number?", "OK, I added Mary with the number 0 3 0 1, 5 5 5."});
+  CHECK(h.say("what is Tom's number") == Lines{"Tom's number is 0 1 7 1, 2 3 4."});
+  CHECK(h.say("add Sue to my contacts with the number twelve") ==
+        Lines{"Sorry, \"12\" doesn't sound like a phone number. I didn't add Sue."});
+  CHECK(h.say("what is Sue's number") == Lines{"I don't have a contact called Sue."});
+}
+
 TEST_CASE("who are my contacts: none, then the names with who they are, by name") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   CHECK(h.intent_of("who are my contacts") == "schedule/list_contacts");
