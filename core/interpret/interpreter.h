@@ -116,7 +116,7 @@ struct Understanding {
 struct Context {
   std::int64_t now_utc_ms = 0;             // "now", milliseconds since the Unix epoch (UTC)
   std::string time_zone = "UTC";           // IANA name, e.g. "Europe/Berlin"
-  std::vector<std::string> contact_names;  // for kContact slots
+  std::vector<std::string> contact_names;  // for kContact slots; "my daughter" for a relation
 };
 
 // Conversation intents every utterance is checked against first (the manager decides what

@@ -75,8 +75,9 @@ std::optional<std::string> ContactBook::find(std::span<const std::string> words)
   for (std::size_t i = 0; i < names_.size(); ++i) {
     if (!normalised_[i].empty() && equal_words(words, normalised_[i])) return names_[i];
   }
-  // "Anna" for "Anna Schmidt", only when no other contact is called Anna.
-  if (words.size() != 1) return std::nullopt;
+  // "Anna" for "Anna Schmidt", only when no other contact is called Anna. ("My" of a
+  // relation, "my daughter", is no first name.)
+  if (words.size() != 1 || words[0] == "my") return std::nullopt;
   std::optional<std::size_t> found;
   for (std::size_t i = 0; i < names_.size(); ++i) {
     if (normalised_[i].size() > 1 && normalised_[i][0] == words[0]) {

@@ -30,7 +30,7 @@ class ContactBook {
  public:
   explicit ContactBook(const std::vector<std::string>& names) : names_(names) {}
   // The contact spelled as in Context::contact_names whose full name, or unique first name,
-  // is `words`.
+  // is `words` ("my daughter", a relation the host lists as a name, only in full).
   std::optional<std::string> find(std::span<const std::string> words) const;
 
  private:

@@ -124,6 +124,9 @@ interpret::Context Manager::context() const {
       for (const data::Contact& contact : s.data->list_contacts()) {
         c.contact_names.push_back(contact.name);
         for (const std::string& alias : contact.aliases) c.contact_names.push_back(alias);
+        // "who is my doctor": the relation names the contact too; the skill's
+        // contacts_find() resolves "my doctor" as the store does.
+        if (!contact.relation.empty()) c.contact_names.push_back("my " + contact.relation);
       }
     } catch (const std::exception& e) {
       log(LogLevel::kWarning, "skills", std::string("contacts unavailable: ") + e.what());

@@ -175,6 +175,10 @@ class FacesSkill : public marvin::Skill {
     const std::string full = contact.value("name", name);
     const std::string relation = contact.value("relation", "");
     const std::string role = relation.empty() ? "one of your contacts" : "your " + relation;
+    // "my doctor": "Your doctor is Doctor Brown."
+    if (lower(name).rfind("my ", 0) == 0) {
+      return robot().say("Your " + name.substr(3) + " is " + full + ".");
+    }
     // "Annie" is an alias of Anna Schmidt: "Annie is Anna Schmidt, your daughter."
     robot().say(lower(full) == lower(name) ? full + " is " + role + "."
                                            : name + " is " + full + ", " + role + ".");

@@ -55,6 +55,10 @@ TEST_CASE("who is Anna: answered from the contact book, not the camera") {
   CHECK(h.say("who is Anna") == Lines{"Anna Schmidt is your daughter."});
   CHECK(h.say("who's annie again") == Lines{"Annie is Anna Schmidt, your daughter."});
   CHECK(h.say("tell me who Tom is") == Lines{"Tom is one of your contacts."});
+  // The relation names the contact: "my daughter".
+  CHECK(h.say("who is my daughter") == Lines{"Your daughter is Anna Schmidt."});
+  CHECK(h.say("who is my doctor") ==
+        Lines{"Sorry, I can't see anything right now: my camera is not working."});
   CHECK(h.say("who is this") ==
         Lines{"Sorry, I can't see anything right now: my camera is not working."});
 }
