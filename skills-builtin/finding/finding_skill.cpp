@@ -173,6 +173,13 @@ class FindingSkill : public marvin::Skill {
       robot().say("Who or what should I look for?");
       return;
     }
+    // "Where is the kitchen?", "where's the sofa?": rooms and furniture do not move; the
+    // map knows where they are, no search needed.
+    if (!w.person && !w.mine) {
+      if (auto place = robot().place_find(w.key); place && place->value("kind", "") != "person") {
+        return where_on_the_map(*place);
+      }
+    }
     const bool recognisable = !w.person && knows_look(w);
     const std::optional<json> seen = last_seen(w);
     const std::int64_t now = robot().now_ms();
@@ -339,6 +346,24 @@ class FindingSkill : public marvin::Skill {
       sentence += " I couldn't get into " + join_and(blocked) + ".";
     }
     robot().say(sentence);
+  }
+
+  // A room or a named place of the map: where it is, and the way there if wanted.
+  void where_on_the_map(const json& place) {
+    std::string name = place.value("name", "");
+    if (lower(name).rfind("the ", 0) == 0) name.erase(0, 4);  // map places are "the sofa"
+    const std::string room = place.value("room", name);
+    const std::optional<std::string> here = robot().where_am_i();
+    if (place.value("kind", "") == "room") {
+      if (here && lower(*here) == lower(room)) return robot().say("We're in the " + room + ".");
+      robot().say("The " + room + " is one of the rooms here" +
+                  (here ? "; I'm in the " + *here : std::string()) + ".");
+    } else {
+      robot().say(capitalise_first("the " + name) + " is in the " + room +
+                  (here && lower(*here) == lower(room) ? ", where we are." : "."));
+      if (here && lower(*here) == lower(room)) return;
+    }
+    offer_to_lead(json{{"room", room}});
   }
 
   void offer_to_lead(const json& where) {

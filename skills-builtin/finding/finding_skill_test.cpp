@@ -118,6 +118,21 @@ TEST_CASE("where are my keys: search, report, lead the way; never seen and never
   CHECK(h.say("where is my umbrella").back().rfind("I don't know what your umbrella look like", 0) == 0);
 }
 
+TEST_CASE("where is the kitchen / the sofa: from the map, no search; the way there if wanted") {
+  marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
+  home(h);
+  h.robot().add_place("the sofa", "living room");
+  h.robot().set_room("hall");
+  CHECK(h.say("where is the kitchen", {"yes"}) ==
+        Lines{"The kitchen is one of the rooms here; I'm in the hall.", "Shall I show you the way?",
+              "Here we are: the kitchen."});
+  CHECK(h.robot().room() == "kitchen");
+  CHECK(h.say("where is the kitchen") == Lines{"We're in the kitchen."});
+  CHECK(h.say("where's the sofa", {"no"}) ==
+        Lines{"The sofa is in the living room.", "Shall I show you the way?"});
+  CHECK(h.robot().room() == "kitchen");  // "no": it stayed
+}
+
 TEST_CASE("a blocked room and a camera failure mid-search: clear speech, the rooms named") {
   marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
   home(h);
