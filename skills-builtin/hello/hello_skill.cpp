@@ -77,6 +77,17 @@ class HelloSkill : public marvin::Skill {
 
   // "can you hear me", "are you there", "are you listening".
   static bool asks_if_i_hear(const std::string& utterance) {
+    // Only the name ("Marvin?", "OK Marvin"): someone wants my attention.
+    std::string letters;
+    for (char c : utterance) {
+      if (std::isalpha(static_cast<unsigned char>(c)) || c == ' ') {
+        letters += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      }
+    }
+    while (!letters.empty() && letters.back() == ' ') letters.pop_back();
+    for (const char* name : {"marvin", "ok marvin", "okay marvin"}) {
+      if (letters == name) return true;
+    }
     for (const char* question :
          {"hear me", "are you there", "are you listening", "are you awake"}) {
       if (utterance.find(question) != std::string::npos) return true;

@@ -17,6 +17,8 @@ TEST_CASE("hello, thank you and goodbye each get their own answer") {
   CHECK(harness.say("see you tomorrow") == Lines{"Goodbye. Just say my name when you need me."});
   CHECK(harness.say("good night marvin") == Lines{"Good night. Sleep well."});
   CHECK(harness.say("goodnight Marvin") == Lines{"Good night. Sleep well."});
+  CHECK(harness.say("Marvin?") == Lines{"Yes, I'm here. What can I do for you?"});
+  CHECK(harness.say("OK Marvin") == Lines{"Yes, I'm here. What can I do for you?"});
   CHECK(harness.say("I'm going to bed") == Lines{"Good night. Sleep well."});
   CHECK(harness.say("time for bed") == Lines{"Good night. Sleep well."});
 }
