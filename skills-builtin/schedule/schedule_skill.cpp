@@ -24,7 +24,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -218,6 +220,7 @@ class ScheduleSkill : public marvin::Skill {
         return;
       }
     }
+    task = with_names(task, request.utterance);
     const json created = add_reminder(task, when);
     if (event) {
       robot().say("OK, I put " + second_person(task) + " on your calendar " + spoken_when(created) +
@@ -295,6 +298,63 @@ class ScheduleSkill : public marvin::Skill {
       task.pop_back();
     }
     return task;
+  }
+
+  // "call tom" -> "call Tom": a slot's words come in lower case. A word the user wrote
+  // with a capital (not the sentence's first, not "I") keeps it, and a contact's name is
+  // spelled as in the address book, for speech, which has no capitals ("doctor brown" ->
+  // "Doctor Brown"; a title alone, "the doctor", stays as said).
+  std::string with_names(const std::string& task, const std::string& utterance) {
+    std::vector<std::string> words = words_of(task);
+    auto strip = [](std::string w) {
+      while (!w.empty() && std::string_view(".,!?;:\"").find(w.back()) != std::string_view::npos)
+        w.pop_back();
+      while (!w.empty() && std::string_view("\"(").find(w.front()) != std::string_view::npos)
+        w.erase(0, 1);
+      return w;
+    };
+    std::vector<std::vector<std::string>> names;  // as in the address book
+    try {
+      for (const json& c : robot().contacts_list()) {
+        names.push_back(words_of(c.value("name", "")));
+        for (const json& a : c.value("aliases", json::array())) {
+          if (a.is_string()) names.push_back(words_of(a.get<std::string>()));
+        }
+      }
+    } catch (const marvin::Error&) {
+      // No address book to read (an older host, no permission): the user's capitals only.
+    }
+    static const std::set<std::string> kTitles = {"doctor", "dr", "mr", "mrs", "ms", "miss",
+                                                  "nurse", "sister", "father", "mother"};
+    for (const std::vector<std::string>& name : names) {
+      for (std::size_t i = 0; !name.empty() && i + name.size() <= words.size(); ++i) {
+        bool same = true;
+        for (std::size_t k = 0; k < name.size() && same; ++k) same = lower(name[k]) == words[i + k];
+        if (same) std::copy(name.begin(), name.end(), words.begin() + static_cast<std::ptrdiff_t>(i));
+      }
+    }
+    std::map<std::string, std::string> spelled;  // lower case -> as written
+    for (const std::vector<std::string>& name : names) {
+      for (const std::string& w : name) {
+        if (!w.empty() && std::isupper(static_cast<unsigned char>(w[0])) && !kTitles.count(lower(w)))
+          spelled.emplace(lower(w), w);
+      }
+    }
+    const std::vector<std::string> said = words_of(utterance);
+    for (std::size_t i = 1; i < said.size(); ++i) {
+      const std::string w = strip(said[i]);
+      if (w.empty() || !std::isupper(static_cast<unsigned char>(w[0])) || w == "I" ||
+          w.rfind("I'", 0) == 0) {
+        continue;
+      }
+      spelled[lower(w)] = w;
+    }
+    std::string out;
+    for (const std::string& w : words) {
+      auto it = spelled.find(w);
+      out += (out.empty() ? "" : " ") + (it != spelled.end() ? it->second : w);
+    }
+    return out;
   }
 
   // Returns once the reminder is durably stored; only then may the skill say OK.

@@ -39,6 +39,27 @@ TEST_CASE("remind me to take my pills at 8 pm: stored, then acknowledged") {
   CHECK(stored[0]["time_zone"] == "Europe/Berlin");
 }
 
+TEST_CASE("names in a reminder keep their capitals: as typed, or as in the address book") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  h.robot().add_contact_json(R"({"name": "Doctor Brown", "relation": "doctor"})");
+  h.robot().add_contact_json(R"({"name": "Tom", "relation": "son"})");
+  // Speech comes in lower case: the address book spells the names.
+  CHECK(h.say("remind me to call tom at 5 pm") ==
+        Lines{"OK, I'll remind you to call Tom today at 5 PM."});
+  CHECK(h.say("remind me to ring doctor brown tomorrow") ==
+        Lines{"OK, I'll remind you to ring Doctor Brown tomorrow at 9 AM."});
+  // A title alone is no name; "I" is said back as "you".
+  CHECK(h.say("remind me to call the doctor when I get home at 6 pm") ==
+        Lines{"OK, I'll remind you to call the doctor when you get home today at 6 PM."});
+  // Typed with a capital: kept.
+  CHECK(h.say("Remind me to visit Margaret at 3 pm") ==
+        Lines{"OK, I'll remind you to visit Margaret today at 3 PM."});
+  bool stored = false;
+  for (const json& r : reminders(h)) stored = stored || r["title"] == "call Tom";
+  CHECK(stored);
+}
+
 TEST_CASE("an alarm needs no task: wake me at 6 is 6 in the morning, and stored") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   berlin(h);  // Monday 10:00
@@ -206,7 +227,7 @@ TEST_CASE("I have nothing on Tuesday: the day is read back, nothing is added") {
   berlin(h);
   h.say("remind me on tuesday at 4 pm to call Anna");
   CHECK(h.say("I have nothing on Tuesday") ==
-        Lines{"Tomorrow: call anna at 4 PM."});
+        Lines{"Tomorrow: call Anna at 4 PM."});
   CHECK(reminders(h).size() == 1);
 }
 
