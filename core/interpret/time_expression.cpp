@@ -178,7 +178,10 @@ class TimeReader {
 
     int hour = -1, minute = 0;
     std::optional<int> relative;  // minutes past (+) or to (-) the hour
-    if (accept("half") && accept("past")) {
+    // "half past seven", and the British "half seven" (7:30, never 6:30).
+    if (accept("half") &&
+        (accept("past") || (at_ < w_.size() && parse_integer(w_[at_]).value_or(0) >= 1 &&
+                            parse_integer(w_[at_]).value_or(0) <= 12))) {
       relative = 30;
     } else {
       at_ = start;

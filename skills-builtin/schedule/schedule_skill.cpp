@@ -227,7 +227,13 @@ class ScheduleSkill : public marvin::Skill {
                   ".");
       return;
     }
-    robot().say("OK, I'll remind you to " + second_person(task) + " " + spoken_when(created) + ".");
+    // "don't let me forget the bins": a thing, not a thing to do.
+    static const std::set<std::string> kThingFirst = {"the", "my", "a", "an", "our", "his",
+                                                      "her", "their", "your"};
+    const std::vector<std::string> first = words_of(lower(task));
+    const bool thing = !first.empty() && kThingFirst.count(first[0]) > 0;
+    robot().say(std::string("OK, I'll remind you ") + (thing ? "about " : "to ") +
+                second_person(task) + " " + spoken_when(created) + ".");
   }
 
   // "I have a doctor's appointment on Tuesday at 10:30", "my daughter is coming on Friday":

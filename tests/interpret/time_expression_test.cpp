@@ -102,6 +102,8 @@ TEST_CASE("time expressions: table against Friday 2024-03-29 10:00 Europe/Berlin
       {"every evening", "2024-03-29T19:00", "daily"},
       // Meals and bed (Friday 10:00): the usual hour, one earlier "before", one later "after".
       {"after lunch", "2024-03-29T13:00", "once"},
+      {"at half seven tomorrow", "2024-03-30T07:30", "once"},
+      {"half past seven tomorrow", "2024-03-30T07:30", "once"},
       {"at lunchtime", "2024-03-29T12:00", "once"},
       {"before breakfast", "2024-03-30T07:00", "once"},
       {"every day with breakfast", "2024-03-30T08:00", "daily"},
