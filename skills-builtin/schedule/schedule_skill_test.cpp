@@ -60,6 +60,17 @@ TEST_CASE("names in a reminder keep their capitals: as typed, or as in the addre
   CHECK(stored);
 }
 
+TEST_CASE("don't let me forget the bins: a thing is said back \"about\"; anything on tomorrow") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);  // Monday 10:00
+  CHECK(h.say("don't let me forget the bins on thursday") ==
+        Lines{"OK, I'll remind you about the bins on Thursday, 8 January at 9 AM."});
+  CHECK(h.say("remind me to put the bins out tomorrow at 7 pm") ==
+        Lines{"OK, I'll remind you to put the bins out tomorrow at 7 PM."});
+  CHECK(h.say("anything on tomorrow?") == Lines{"Tomorrow: put the bins out at 7 PM."});
+  CHECK(reminders(h).size() == 2);
+}
+
 TEST_CASE("an alarm needs no task: wake me at 6 is 6 in the morning, and stored") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   berlin(h);  // Monday 10:00
