@@ -100,6 +100,19 @@ TEST_CASE("turn everything off in the bedroom") {
   CHECK(state(h, "fan")["on"] == false);
 }
 
+TEST_CASE("the big light: a describing word no device is named with leaves the room's light") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);
+  h.robot().set_room("kitchen");
+  CHECK(h.say("turn the big light on") == Lines{"The kitchen light is on."});
+  CHECK(h.say("switch off the main light in the bedroom") == Lines{"The bedroom light is off."});
+  // An alias with the word still names its device; a word that describes nothing here
+  // ("red") is no light of this room.
+  CHECK(h.say("turn on the big lamp") == Lines{"The living room lamp is on."});
+  CHECK(h.say("turn on the red light") == Lines{"I don't know a device called the red light."});
+  CHECK(state(h, "kitchen")["on"] == true);
+}
+
 TEST_CASE("all the lights: every light in every room, not only this room's") {
   marvin::testing::SkillHarness h(HOME_SKILL_DIR);
   world(h);

@@ -126,6 +126,20 @@ inline Resolution resolve(const nlohmann::json& devices, const std::string& phra
                                      everywhere_word(w);
                             }),
              rest.end());
+  // "The big light", "the main light": words that describe a light without naming it, when
+  // no device's name has them, leave the kind ("light") and the room to decide.
+  static const std::set<std::string> kDescribing = {"big",      "main", "ceiling", "overhead",
+                                                    "top",      "little", "small", "usual"};
+  rest.erase(std::remove_if(rest.begin(), rest.end(),
+                            [&](const std::string& w) {
+                              if (!kDescribing.count(w)) return false;
+                              for (const auto& d : devices) {
+                                const std::vector<std::string> n = words(d.value("name", ""));
+                                if (std::find(n.begin(), n.end(), w) != n.end()) return false;
+                              }
+                              return true;
+                            }),
+             rest.end());
   for (std::size_t i = 0; i < devices.size(); ++i) {
     const nlohmann::json& d = devices[i];
     if (!r.room.empty() && d.value("room", "") != r.room) continue;
