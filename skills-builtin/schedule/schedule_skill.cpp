@@ -919,7 +919,15 @@ class ScheduleSkill : public marvin::Skill {
 
   void contact_number(std::string name) {
     if (name.size() > 2 && name.compare(name.size() - 2, 2, "'s") == 0) name.resize(name.size() - 2);
-    const json found = robot().contacts_find(name);
+    json found = robot().contacts_find(name);
+    // Speech has no apostrophe: "my doctors number" is my doctor's.
+    if (found.empty() && name.size() > 1 && name.back() == 's') {
+      json without = robot().contacts_find(name.substr(0, name.size() - 1));
+      if (!without.empty()) {
+        name.pop_back();
+        found = std::move(without);
+      }
+    }
     if (found.empty()) {
       robot().say("I don't have a contact called " + capitalised(name) + ".");
       return;
@@ -928,8 +936,15 @@ class ScheduleSkill : public marvin::Skill {
     for (const json& c : found) {
       const std::string full = c.value("name", "");
       const json numbers = c.value("phone_numbers", json::array());
-      if (numbers.empty()) parts.push_back("I don't have a number for " + full);
-      else parts.push_back(full + "'s number is " + spoken_number(numbers[0].get<std::string>()));
+      if (numbers.empty() && !c.value("sip_uris", json::array()).empty()) {
+        // An internet phone address only: no number to read out, but a call works.
+        parts.push_back("I have no phone number for " + full + ", but I can call " + full +
+                        ": say \"call " + full + "\"");
+      } else if (numbers.empty()) {
+        parts.push_back("I don't have a number for " + full);
+      } else {
+        parts.push_back(full + "'s number is " + spoken_number(numbers[0].get<std::string>()));
+      }
     }
     robot().say(join_and(parts) + ".");
   }

@@ -293,6 +293,14 @@ TEST_CASE("add a contact asks name and number; what is Anna's number") {
   h.robot().add_contact("Bob Meyer", {"Bob"}, {"+49 30 1234"});
   CHECK(h.say("what is Bob's number") == Lines{"Bob Meyer's number is plus 4 9, 3 0, 1 2 3 4."});
   CHECK(h.say("what is Carla's number") == Lines{"I don't have a contact called Carla."});
+  // As speech comes, without the apostrophe; a name that ends in s stays as it is.
+  CHECK(h.say("what is bobs number") == Lines{"Bob Meyer's number is plus 4 9, 3 0, 1 2 3 4."});
+  h.robot().add_contact("James", {}, {"0301"});
+  CHECK(h.say("what is james number") == Lines{"James's number is 0 3 0 1."});
+  // Only an internet phone address: none to read out, but a call works.
+  h.robot().add_contact_json(R"({"name": "Anna", "sip_uris": ["sip:anna@example.org"]})");
+  CHECK(h.say("what is Anna's number") ==
+        Lines{"I have no phone number for Anna, but I can call Anna: say \"call Anna\"."});
 }
 
 TEST_CASE("add a contact in one sentence: name and number from it, only what is missing asked") {
