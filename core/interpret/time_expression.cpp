@@ -179,9 +179,11 @@ class TimeReader {
     int hour = -1, minute = 0;
     std::optional<int> relative;  // minutes past (+) or to (-) the hour
     // "half past seven", and the British "half seven" (7:30, never 6:30).
-    if (accept("half") &&
-        (accept("past") || (at_ < w_.size() && parse_integer(w_[at_]).value_or(0) >= 1 &&
-                            parse_integer(w_[at_]).value_or(0) <= 12))) {
+    auto next_is_hour = [&] {
+      const auto h = at_ < w_.size() ? parse_integer(w_[at_]) : std::nullopt;
+      return h && *h >= 1 && *h <= 12;
+    };
+    if (accept("half") && (accept("past") || next_is_hour())) {
       relative = 30;
     } else {
       at_ = start;

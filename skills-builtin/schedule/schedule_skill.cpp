@@ -63,6 +63,12 @@ std::vector<std::string> words_of(const std::string& text) {
   return out;
 }
 
+// "Tom's" -> "Tom": the owner of a possessive.
+std::string without_possessive(std::string word) {
+  if (word.size() > 2 && word.compare(word.size() - 2, 2, "'s") == 0) word.resize(word.size() - 2);
+  return word;
+}
+
 // "take my pills" said by the owner is "take your pills" said back.
 std::string second_person(const std::string& text) {
   std::string out;
@@ -549,7 +555,7 @@ class ScheduleSkill : public marvin::Skill {
                                                std::initializer_list<const char*> generic) {
     std::vector<std::string> wanted;
     for (std::string w : words_of(lower(task))) {
-      if (w.size() > 2 && w.compare(w.size() - 2, 2, "'s") == 0) w.resize(w.size() - 2);
+      w = without_possessive(w);
       auto says_nothing = [&](const std::string& word) {
         return word == "the" || word == "my" || word == "a" || word == "an" || word == "to" ||
                std::any_of(generic.begin(), generic.end(),
@@ -853,12 +859,9 @@ class ScheduleSkill : public marvin::Skill {
   }
 
   void add_contact(const marvin::Request& request) {
-    std::string said_name = request.slots.at("name").get<std::string>();
     // "save Tom's number as ...": the name is Tom.
-    if (said_name.size() > 2 && said_name.compare(said_name.size() - 2, 2, "'s") == 0) {
-      said_name.resize(said_name.size() - 2);
-    }
-    const std::string name = capitalised(said_name);
+    const std::string name =
+        capitalised(without_possessive(request.slots.at("name").get<std::string>()));
     // "with the number 12": the template's optional words may land in the slot.
     std::string heard = request.slots.at("number").get<std::string>();
     for (const char* lead : {"with ", "the ", "phone ", "number ", "is "}) {
@@ -918,7 +921,7 @@ class ScheduleSkill : public marvin::Skill {
   }
 
   void contact_number(std::string name) {
-    if (name.size() > 2 && name.compare(name.size() - 2, 2, "'s") == 0) name.resize(name.size() - 2);
+    name = without_possessive(name);
     json found = robot().contacts_find(name);
     // Speech has no apostrophe: "my doctors number" is my doctor's.
     if (found.empty() && name.size() > 1 && name.back() == 's') {
