@@ -194,9 +194,12 @@ marvin_status api_obstacle_scan(marvin_host* host, marvin_scan_point* points, si
     std::vector<devices::ScanPoint> scan = c.services().body->latest_scan();
     *count = std::min(scan.size(), capacity);
     // The body stamps points with the steady clock; skills get the wall clock.
-    std::int64_t steady_now = std::chrono::duration_cast<std::chrono::milliseconds>(
-                                  std::chrono::steady_clock::now().time_since_epoch())
-                                  .count();
+    std::int64_t steady_now =
+        c.services().steady_now_ms
+            ? c.services().steady_now_ms()
+            : std::chrono::duration_cast<std::chrono::milliseconds>(
+                  std::chrono::steady_clock::now().time_since_epoch())
+                  .count();
     std::int64_t wall_now = c.services().now_ms ? c.services().now_ms() : system_now_ms();
     for (std::size_t i = 0; i < *count; ++i) {
       points[i] = marvin_scan_point{scan[i].angle_deg, scan[i].distance_m,

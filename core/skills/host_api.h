@@ -50,6 +50,9 @@ struct HostServices {
   // Now, milliseconds since the Unix epoch (UTC). Default: the system clock.
   std::function<std::int64_t()> now_ms;
   std::string time_zone = "UTC";  // the owner's IANA time zone
+  // The body's clock (steady, milliseconds) its scan points are stamped with; converting
+  // them to Unix time reads both clocks. Default: std::chrono::steady_clock.
+  std::function<std::int64_t()> steady_now_ms;
   // move() returns when the motion has run its course (true), or at once (false: the
   // MockRobot, so tests have nothing to wait for).
   bool wait_for_motion = true;

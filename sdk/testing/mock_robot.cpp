@@ -10,12 +10,18 @@
 
 namespace marvin::testing {
 
+namespace {
+// The mock body's steady clock: it stands still (any value would do).
+constexpr std::int64_t kSteadyNowMs = 1'000'000;
+}  // namespace
+
 MockRobot::Impl::Impl(std::string id, std::vector<std::string> permissions)
     : skill_id(std::move(id)) {
   services.data = &data;
   services.body = this;
   services.user = this;
   services.now_ms = [this] { return now_ms; };
+  services.steady_now_ms = [] { return kSteadyNowMs; };
   services.time_zone = "UTC";
   services.wait_for_motion = false;
   services.last_fired_reminder = [this] { return last_fired; };
@@ -59,14 +65,11 @@ void MockRobot::Impl::tilt_head(int degrees) {
   actions.push_back("tilt_head " + std::to_string(degrees));
 }
 std::vector<devices::ScanPoint> MockRobot::Impl::latest_scan() {
-  // The host converts body (steady clock) stamps to the wall clock; hand it points that
-  // come out as the test set them.
-  std::int64_t steady_now = std::chrono::duration_cast<std::chrono::milliseconds>(
-                                std::chrono::steady_clock::now().time_since_epoch())
-                                .count();
+  // The host converts body (steady clock) stamps to the wall clock by the two clocks' now;
+  // the mock's body clock stands still, so points come out exactly as the test set them.
   std::vector<devices::ScanPoint> out;
   for (const auto& p : scan) {
-    out.push_back(devices::ScanPoint{p.angle_deg, p.distance_m, steady_now - (now_ms - p.time_ms)});
+    out.push_back(devices::ScanPoint{p.angle_deg, p.distance_m, kSteadyNowMs - (now_ms - p.time_ms)});
   }
   return out;
 }
