@@ -1,8 +1,39 @@
 #include "skills/host_loop.h"
 
+#include <cctype>
 #include <chrono>
+#include <set>
 
 namespace marvin::skills {
+
+namespace {
+
+// Whether a question asks yes or no, or to pick one of a few ("Shall I look again?", "Call
+// Anna?", "Fan, light or thermostat?"): its last sentence ends with '?' and does not start
+// with a question word. An open question ("What should I remind you of?") may be answered
+// with words that happen to be a request ("call Tom"), so it always gets its answer.
+bool closed_question(std::string_view question) {
+  while (!question.empty() && std::isspace(static_cast<unsigned char>(question.back()))) {
+    question.remove_suffix(1);
+  }
+  if (question.empty() || question.back() != '?') return false;
+  question.remove_suffix(1);
+  const std::size_t end_of_previous = question.find_last_of(".!?");
+  if (end_of_previous != std::string_view::npos) question.remove_prefix(end_of_previous + 1);
+  std::string first;
+  for (char c : question) {
+    if (std::isalpha(static_cast<unsigned char>(c))) {
+      first += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    } else if (!first.empty()) {
+      break;
+    }
+  }
+  static const std::set<std::string, std::less<>> kQuestionWords = {
+      "what", "which", "who", "whom", "whose", "where", "when", "why", "how"};
+  return !first.empty() && !kQuestionWords.contains(first);
+}
+
+}  // namespace
 
 HostLoop::HostLoop(std::function<void(std::string_view)> speak) : speak_(std::move(speak)) {}
 
@@ -130,6 +161,7 @@ std::optional<std::string> HostLoop::ask(std::string_view question) {
     // taken for a "no" to the task (route()).
     std::lock_guard lock(mutex_);
     question_pending_ = true;
+    question_ = question;
     answer_.reset();
   }
   say(question);
@@ -175,28 +207,38 @@ bool HostLoop::stop_queued() const {
   return false;
 }
 
+void HostLoop::take_over(std::unique_lock<std::mutex>& lock, const std::string& line,
+                         bool leaving) {
+  holding_ = false;
+  lock.unlock();
+  if (leaving) {
+    manager_->leave_task();
+  } else {
+    manager_->stop();
+  }
+  while (!manager_->wait_idle(std::chrono::hours{1})) {
+  }
+  lock.lock();
+  if (shutting_down_) return;
+  interrupted_ = false;  // a new conversation starts
+  lock.unlock();
+  manager_->handle(line);
+}
+
 void HostLoop::route(std::string line) {
   // A call for help while a task runs or asks: the task is stopped, not waited for, and the
   // call is no answer to its question. Checked unlocked: the interpreter takes a while.
-  const bool urgent = manager_ && manager_->busy() && manager_->urgent(line);
+  const bool busy = manager_ && manager_->busy();
+  const bool urgent = busy && manager_->urgent(line);
+  // A request said in answer to a task's yes-or-no question ("Shall I look again?" "What
+  // time is it?") declines it and is taken: the user has moved on.
+  const bool request = busy && !urgent && manager_->is_request(line);
   std::unique_lock lock(mutex_);
   if (shutting_down_) {  // taken just before shut_down(): dropped with the rest
     holding_ = false;
     return;
   }
-  if (urgent) {
-    holding_ = false;
-    lock.unlock();
-    manager_->stop();
-    while (!manager_->wait_idle(std::chrono::hours{1})) {
-    }
-    lock.lock();
-    if (shutting_down_) return;
-    interrupted_ = false;  // a new conversation starts
-    lock.unlock();
-    manager_->handle(line);
-    return;
-  }
+  if (urgent) return take_over(lock, line, false);
   if (!manager_ || is_stop(line)) {
     holding_ = false;
     lock.unlock();
@@ -221,6 +263,12 @@ void HostLoop::route(std::string line) {
     changed_.wait(lock, [&] {
       return shutting_down_ || question_pending_ || !manager_->busy() || stop_queued();
     });
+    // Also a request held from before the question: a task's yes or no is not given by
+    // something the user said before hearing the question.
+    if (question_pending_ && !shutting_down_ && request && closed_question(question_)) {
+      question_pending_ = false;
+      return take_over(lock, line, true);
+    }
     if (question_pending_ && !shutting_down_) {
       answer_ = std::move(line);
       // Answered: the next utterance is not an answer too, even when it comes before the

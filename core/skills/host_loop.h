@@ -88,6 +88,9 @@ class HostLoop : public User {
   std::optional<std::string> pop(bool run_timers = false);
   void run_due_timers();  // mutex_ not held
   void route(std::string line);
+  // Stops the running task (stop(), or leave_task() with `leaving`), waits for it to end and
+  // handles `line`. Called with `lock` held; route() returns right after.
+  void take_over(std::unique_lock<std::mutex>& lock, const std::string& line, bool leaving);
   bool stop_queued() const;  // mutex_ held
   bool is_stop(const std::string& utterance) const;
 
@@ -109,6 +112,7 @@ class HostLoop : public User {
   bool interrupted_ = false;           // guarded by mutex_
   bool question_pending_ = false;      // guarded by mutex_: a worker waits in ask()
   bool holding_ = false;               // guarded by mutex_: the loop holds an utterance
+  std::string question_;               // guarded by mutex_: what the pending question asks
   std::optional<std::string> answer_;  // guarded by mutex_
   std::uint64_t events_ = 0;           // guarded by mutex_: bumped by every notification
 };

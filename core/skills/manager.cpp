@@ -141,7 +141,11 @@ void Manager::light(int which) {
   }
 }
 
-void Manager::stop() {
+void Manager::stop() { end_task(false); }
+
+void Manager::leave_task() { end_task(true); }
+
+void Manager::end_task(bool leaving) {
   LoadedSkill* running = nullptr;
   std::string stopped;
   {
@@ -154,8 +158,9 @@ void Manager::stop() {
   user_.interrupt();
   if (stop_hook_) {
     const std::string ended = stop_hook_(running ? running->manifest.id : std::string());
-    if (!running && !ended.empty()) return say(ended);
+    if (!running && !ended.empty() && !leaving) return say(ended);
   }
+  if (leaving) return say("OK, I'll leave that.");
   if (!running) return say("OK.");
   say(stopped.empty() ? "OK, I stopped." : stopped);
 }
@@ -412,6 +417,13 @@ void Manager::handle_next_request() {
   const std::string next = std::move(*next_request_);
   next_request_.reset();
   handle(next);
+}
+
+bool Manager::is_request(std::string_view utterance) const {
+  const interpret::Interpreter& interpreter = registry_.interpreter();
+  if (interpreter.builtin(utterance) != interpret::Builtin::kNone) return false;
+  const interpret::Understanding u = interpreter.understand(utterance, context());
+  return u.outcome == interpret::Understanding::Outcome::kMatch && u.match->confidence >= 1.0F;
 }
 
 bool Manager::urgent(std::string_view utterance) const {

@@ -85,6 +85,12 @@ class Manager : public User {
   // for help) and the task running, if any, is not one: the host loop lets it stop that
   // task. The host loop's thread only.
   bool urgent(std::string_view utterance) const;
+  // Whether `utterance` is, word for word, a request of some skill (a template at full
+  // confidence) and no word of the dialogue (yes, no, stop). The host loop's thread only.
+  bool is_request(std::string_view utterance) const;
+  // The user answered the running task's yes-or-no question with a new request: the task is
+  // stopped as by stop(), but Marvin says "OK, I'll leave that." (any thread).
+  void leave_task();
 
   // True while a long task runs on the worker.
   bool busy() const;
@@ -109,6 +115,7 @@ class Manager : public User {
   std::function<void(VoiceStyle)> voice_hook_;
   VoiceStyle voice_style_;  // the host loop's thread
   void change_voice(interpret::VoiceChange change);
+  void end_task(bool leaving);  // stop() and leave_task()
   bool fill_slots(const IntentDecl& intent, interpret::Match& match, std::string_view utterance);
   bool confirm(const IntentDecl& intent, const interpret::Match& match);
   // "Did you want a reminder or your schedule?": the chosen reading, or nullopt after "no",

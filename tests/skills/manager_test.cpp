@@ -68,6 +68,9 @@ class Walker : public marvin::Skill {
       robot().say("I'm back.");
     } else if (r.intent == "errand") {
       robot().say("Going to the " + robot().ask("Where to?") + ".");
+    } else if (r.intent == "tidy") {
+      const std::string answer = robot().ask("I tidied the hall. Shall I tidy the kitchen too?");
+      robot().say(answer == "yes" ? "Tidying the kitchen." : "I'll leave the kitchen.");
     }
   }
 };
@@ -108,6 +111,10 @@ const char* kSeeker = R"({"id": "seeker", "name": "Seeker", "version": "1.0.0", 
 const char* kRescuer = R"({"id": "rescuer", "name": "Rescuer", "version": "1.0.0", "kind": "native",
   "host_api": {"min": "1.0"}, "permissions": ["motion"], "intents": [
    {"name": "help", "templates": ["call for help"], "execution": "long", "urgent": true}]})";
+// Added only where used (with Walker's handler).
+const char* kTidier = R"({"id": "tidier", "name": "Tidier", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "intents": [
+   {"name": "tidy", "templates": ["tidy up"], "execution": "long"}]})";
 // Added only where used (with Caller's handler).
 const char* kAlarm = R"({"id": "alarm", "name": "Alarm", "version": "1.0.0", "kind": "native",
   "host_api": {"min": "1.0"}, "intents": [
@@ -578,6 +585,39 @@ TEST_CASE("a request right behind an answer is the next request, not a second an
     REQUIRE(s.wait_said("Hello, bob!"));
     CHECK(s.finish() == Lines{"Where to?", "Going to the kitchen.", "Hello, bob!"});
   }
+}
+
+TEST_CASE("a request answering a long skill's yes-or-no question leaves the task and is taken") {
+  Session s;
+  s.registry.add_native(manifest(kTidier), marvin::skill_descriptor<Walker>("tidier"));
+  s.loop.post("tidy up");
+  REQUIRE(s.wait_said("I tidied the hall. Shall I tidy the kitchen too?"));
+  s.loop.post("say hello to Bob");
+  REQUIRE(s.wait_said("Hello, bob!"));
+  // The task did not take the request for its answer ("I'll leave the kitchen.").
+  CHECK(s.finish() == Lines{"I tidied the hall. Shall I tidy the kitchen too?",
+                            "OK, I'll leave that.", "Hello, bob!"});
+}
+
+TEST_CASE("a yes-or-no question still takes yes and other words; an open one takes a request") {
+  Session s;
+  s.registry.add_native(manifest(kTidier), marvin::skill_descriptor<Walker>("tidier"));
+  s.loop.post("tidy up");
+  REQUIRE(s.wait_said("I tidied the hall. Shall I tidy the kitchen too?"));
+  s.loop.post("yes");
+  REQUIRE(s.wait_said("Tidying the kitchen."));
+  REQUIRE(s.manager.wait_idle(std::chrono::seconds(30)));
+  s.loop.post("tidy up");
+  s.loop.post("maybe later");  // no request: the answer, whether it comes before or after
+  REQUIRE(s.wait_said("I'll leave the kitchen."));
+  // "Where to?" asks what, not whether: words that would be a request are its answer.
+  s.loop.post("run an errand");
+  REQUIRE(s.wait_said("Where to?"));
+  s.loop.post("say hello to Bob");
+  REQUIRE(s.wait_said("Going to the say hello to Bob."));
+  CHECK(s.finish() == Lines{"I tidied the hall. Shall I tidy the kitchen too?", "Tidying the kitchen.",
+                            "I tidied the hall. Shall I tidy the kitchen too?", "I'll leave the kitchen.",
+                            "Where to?", "Going to the say hello to Bob."});
 }
 
 TEST_CASE("stop during a long skill's question cancels it") {
