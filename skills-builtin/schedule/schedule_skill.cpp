@@ -761,6 +761,13 @@ class ScheduleSkill : public marvin::Skill {
       return;
     }
     const std::optional<json> fired = last_fired();
+    if (!fired && request.slots.contains("duration")) {
+      // "Remind me in an hour" with nothing announced: a new reminder, an hour from now
+      // (not "snooze it for ten minutes", "remind me again in five minutes").
+      const std::vector<std::string> said = words_of(lower(request.utterance));
+      const auto has = [&](const char* w) { return std::find(said.begin(), said.end(), w) != said.end(); };
+      if (has("remind") && !has("again")) return remind_in(request, seconds);
+    }
     if (!fired) {
       robot().say("There is no reminder to snooze.");
       return;
@@ -778,6 +785,18 @@ class ScheduleSkill : public marvin::Skill {
                    date::sys_time<std::chrono::milliseconds>{std::chrono::milliseconds{robot().now_ms()}})))
       when = spoken_day(day, today()) + " " + when;
     robot().say("OK, I'll remind you again " + when + ".");
+  }
+
+  void remind_in(const marvin::Request& request, std::int64_t seconds) {
+    const std::int64_t fire_ms = robot().now_ms() + seconds * 1000;
+    const auto fire = date::sys_time<std::chrono::milliseconds>{std::chrono::milliseconds{fire_ms}};
+    const std::string at = date::format(
+        "%Y-%m-%dT%H:%M",
+        date::locate_zone(robot().time_zone())->to_local(date::floor<std::chrono::minutes>(fire)));
+    marvin::Request reminder = request;
+    reminder.slots = json::object();
+    reminder.slots["when"] = {{"at", at}, {"time_zone", robot().time_zone()}};
+    remind(reminder);
   }
 
   void done(const std::string& utterance) {

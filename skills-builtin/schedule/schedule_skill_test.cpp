@@ -486,6 +486,30 @@ TEST_CASE("snooze and done with nothing fired, or with the reminder cancelled si
   CHECK(h.say("I did it") == Lines{"There is no reminder to mark as done."});
 }
 
+TEST_CASE("remind me in an hour, with nothing fired, is a new reminder; snooze stays a snooze") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  CHECK(h.say("snooze it for 10 minutes") == Lines{"There is no reminder to snooze."});
+  CHECK(h.say("remind me again in 5 minutes") == Lines{"There is no reminder to snooze."});
+  CHECK(reminders(h).empty());
+  CHECK(h.say("remind me in an hour", {"check the oven"}) ==
+        Lines{"What should I remind you of?", "OK, I'll remind you to check the oven today at 11 AM."});
+  const auto stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["title"] == "check the oven");
+  CHECK(stored[0]["at"] == "2026-01-05T11:00");
+  CHECK(stored[0]["time_zone"] == "Europe/Berlin");
+}
+
+TEST_CASE("remind me at 5 pm, the task not said: asked for, not read from \"pm\"") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  CHECK(h.say("remind me at 5 pm", {"water the plants"}) ==
+        Lines{"What should I remind you of?", "OK, I'll remind you to water the plants today at 5 PM."});
+  CHECK(h.say("remind me tomorrow at 9 am", {"call the bank"}) ==
+        Lines{"What should I remind you of?", "OK, I'll remind you to call the bank tomorrow at 9 AM."});
+}
+
 TEST_CASE("snooze and done without the schedule permission: refused, nothing said or changed") {
   void* library = dlopen(SCHEDULE_SKILL_DIR "/skill.so", RTLD_NOW | RTLD_LOCAL);
   REQUIRE(library != nullptr);
