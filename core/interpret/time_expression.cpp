@@ -413,6 +413,11 @@ class TimeReader {
     accept("on");
     accept("the");
     int month = 0, day = 0;
+    if (read_holiday(month, day)) {
+      phrase.month = month;
+      phrase.day_of_month = day;
+      return true;
+    }
     if (at_ < w_.size()) {
       if (auto m = month_of(w_[at_])) {
         ++at_;
@@ -445,6 +450,37 @@ class TimeReader {
       }
     }
     return true;
+  }
+
+  // A holiday on the same date every year: "christmas [day]", "christmas eve", "boxing day",
+  // "new year's [day|eve]", "halloween", "valentine's day". (Easter moves; it is not here.)
+  bool read_holiday(int& month, int& day) {
+    const std::size_t start = at_;
+    auto found = [&](int m, int d) {
+      month = m;
+      day = d;
+      return true;
+    };
+    if (accept("christmas") || accept("xmas")) {
+      if (accept("eve")) return found(12, 24);
+      accept("day");
+      return found(12, 25);
+    }
+    if (accept_seq({"boxing", "day"})) return found(12, 26);
+    if (accept("halloween")) return found(10, 31);
+    if ((accept("valentine's") || accept("valentines") || accept_seq({"valentine", "s"})) &&
+        accept("day")) {
+      return found(2, 14);
+    }
+    at_ = start;
+    if (accept("new") &&
+        (accept("year's") || accept("years") || accept_seq({"year", "s"}) || accept("year"))) {
+      if (accept("eve")) return found(12, 31);
+      accept("day");
+      return found(1, 1);
+    }
+    at_ = start;
+    return false;
   }
 
   // "next week", "this weekend", "over the weekend", "for the week": a span of days.

@@ -10,6 +10,8 @@
 //                 "mar 3", "sept 21st", "the 20 1st of may" (as normalised), each with an
 //                 optional year ("march 4th 2027"); "may" only with a day number. Numeric
 //                 dates ("12/03/2019") are not read: day/month or month/day is ambiguous.
+//   holiday       "christmas [day|eve]", "boxing day", "new year's [day|eve]", "halloween",
+//                 "valentine's day": their calendar dates (Easter, which moves, is not read)
 //   day range     "this week", "next week", "this weekend", "next weekend" (no time of day;
 //                 resolved against the clock: the weeks run Monday to Sunday)
 //   relative      "in 20 minutes", "in an hour and a half" (nothing else may follow)

@@ -6,6 +6,7 @@
 // "is it morning or evening?" / "is it night?" -> "It's the evening: 7:10 PM." (someone who
 // has slept in the day may not know, and "evening" alone says more than the clock).
 // "is it the weekend?" / "is today Sunday?" -> "Yes, today is Saturday, ..." or "No, ...".
+// "how many days until christmas?" -> "It's 26 days until Friday, 25 December."
 #include <date/tz.h>
 
 #include <cctype>
@@ -60,6 +61,8 @@ class TimeSkill : public marvin::Skill {
       robot().say(which + date::format("%A", date::weekday{day}) + ", " +
                   std::to_string(static_cast<unsigned>(ymd.day())) + " " +
                   date::format("%B %Y", ymd) + ".");
+    } else if (request.intent == "days_until") {
+      days_until(request.slots.at("when"), local);
     } else {
       throw marvin::Error(MARVIN_ERR_INVALID, "unknown intent '" + request.intent + "'");
     }
@@ -82,6 +85,51 @@ class TimeSkill : public marvin::Skill {
                                    date::day{static_cast<unsigned>(d)}};
     if (!ymd.ok()) return std::nullopt;
     return date::local_days{ymd};
+  }
+
+  // "how many days until christmas" -> "It's 26 days until Friday, 25 December."; a time
+  // of day only ("how long until 5 pm") -> "It's 2 hours and 5 minutes until 5 PM."
+  void days_until(const nlohmann::json& when, date::local_seconds now) {
+    const std::string at = when.value("at", std::string());
+    const std::optional<date::local_days> day = local_day(at);
+    if (!day) throw marvin::Error(MARVIN_ERR_INVALID, "slot 'when' has no date in 'at': " + at);
+    const date::local_days today = date::floor<date::days>(now);
+    const date::year_month_day ymd{*day};
+    std::string date_text = date::format("%A", date::weekday{*day}) + ", " +
+                            std::to_string(static_cast<unsigned>(ymd.day())) + " " +
+                            date::format("%B", ymd);
+    if (ymd.year() != date::year_month_day{today}.year()) date_text += date::format(" %Y", ymd);
+    const auto days = (*day - today).count();
+    if (when.value("time_given", false) && !when.value("day_given", false) && at.size() >= 16) {
+      const int hour = std::stoi(at.substr(11, 2)), minute = std::stoi(at.substr(14, 2));
+      const date::local_seconds target = *day + std::chrono::hours{hour} + std::chrono::minutes{minute};
+      const auto minutes = std::chrono::duration_cast<std::chrono::minutes>(target - now).count();
+      // The hour as it was asked: "until midnight", "until 5 PM" (not "12:00 AM", "5:00 PM").
+      std::string until = clock_text(target);
+      if (minute == 0) {
+        until = hour == 0    ? "midnight"
+                : hour == 12 ? "noon"
+                             : std::to_string(hour % 12 == 0 ? 12 : hour % 12) + (hour < 12 ? " AM" : " PM");
+      }
+      robot().say("It's " + spoken_minutes(minutes) + " until " + until +
+                  (days > 0 && hour != 0 ? " tomorrow." : "."));
+      return;
+    }
+    if (days == 0) return robot().say("That's today, " + date_text + ".");
+    if (days == 1) return robot().say("That's tomorrow, " + date_text + ".");
+    robot().say("It's " + std::to_string(days) + " days until " + date_text + ".");
+  }
+
+  // 125 -> "2 hours and 5 minutes"; 60 -> "1 hour"; 0 -> "less than a minute".
+  static std::string spoken_minutes(long long minutes) {
+    auto unit = [](long long n, const char* name) {
+      return std::to_string(n) + " " + name + (n == 1 ? "" : "s");
+    };
+    if (minutes <= 0) return "less than a minute";
+    const long long h = minutes / 60, m = minutes % 60;
+    if (h == 0) return unit(m, "minute");
+    if (m == 0) return unit(h, "hour");
+    return unit(h, "hour") + " and " + unit(m, "minute");
   }
 
   // "is it Sunday?", "is today the weekend?": "Yes, " or "No, " before the date; "" for a

@@ -114,6 +114,16 @@ TEST_CASE("time expressions: table against Friday 2024-03-29 10:00 Europe/Berlin
       {"every day before bed", "2024-03-29T21:00", "daily"},
       {"every night at 10", "2024-03-29T22:00", "daily"},
       {"every day in the evening", "2024-03-29T19:00", "daily"},
+      // Holidays on fixed dates: the next one (Christmas 2024; New Year's Day 2025).
+      {"christmas", "2024-12-25T09:00", "once"},
+      {"on christmas day at 6 pm", "2024-12-25T18:00", "once"},
+      {"christmas eve", "2024-12-24T09:00", "once"},
+      {"boxing day", "2024-12-26T09:00", "once"},
+      {"new year's eve", "2024-12-31T09:00", "once"},
+      {"new year's day", "2025-01-01T09:00", "once"},
+      {"new year", "2025-01-01T09:00", "once"},
+      {"on halloween", "2024-10-31T09:00", "once"},
+      {"valentine's day", "2025-02-14T09:00", "once"},
   };
   for (const Case& c : cases) {
     CAPTURE(c.text);
@@ -278,6 +288,12 @@ TEST_CASE("time expressions: not times") {
   for (const char* text : {"after bed", "after lunch after dinner", "with", "before the",
                            "morning morning", "this evening tomorrow", "tonight in the morning",
                            "next week in the morning", "every 2 hours in the evening"}) {
+    CAPTURE(text);
+    CHECK(when(text, context).is_null());
+  }
+  // Holidays: not Easter (it moves), not half a name, not two days.
+  for (const char* text : {"easter", "valentine's", "boxing", "new", "christmas tomorrow",
+                           "christmas on monday", "halloween eve"}) {
     CAPTURE(text);
     CHECK(when(text, context).is_null());
   }

@@ -141,7 +141,7 @@ TEST_CASE("marvin skills list: skills, versions, kinds, intents and load errors"
   std::string all;
   for (const auto& line : r.lines) all += line + "\n";
   CHECK(all.find("time 1.0.0 (native) \"Time\" in ") != std::string::npos);
-  CHECK(all.find("    intents: time, day\n") != std::string::npos);
+  CHECK(all.find("    intents: time, day, days_until\n") != std::string::npos);
   CHECK(all.find("dice 1.0.0 (native) \"Dice\" in ") != std::string::npos);
   CHECK(all.find("    intents: roll_one, roll_many, last_roll\n") != std::string::npos);
   CHECK(all.find("load errors:\n  skills directory /nonexistent/skills does not exist\n") !=

@@ -99,3 +99,22 @@ TEST_CASE("the time in a city the tz database names; the local time when it name
         Lines{"I don't know the time zone of Atlantis. Here it's 3:05 PM."});
   CHECK(harness.say("what time is it") == Lines{"It's 3:05 PM."});  // no place: here
 }
+
+TEST_CASE("how many days until christmas; how long until an hour; today and tomorrow") {
+  marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
+  harness.robot().set_now(kSaturdayAfternoonUtc);  // 3:05 PM in Berlin
+  harness.robot().set_time_zone("Europe/Berlin");
+  CHECK(harness.say("how many days until christmas") ==
+        Lines{"It's 34 days until Friday, 25 December."});
+  CHECK(harness.say("how long is it till new year's day") ==
+        Lines{"It's 41 days until Friday, 1 January 2027."});
+  CHECK(harness.say("when is christmas eve") == Lines{"It's 33 days until Thursday, 24 December."});
+  CHECK(harness.say("how many days until sunday") == Lines{"That's tomorrow, Sunday, 22 November."});
+  CHECK(harness.say("how long until 5 pm") == Lines{"It's 1 hour and 55 minutes until 5 PM."});
+  CHECK(harness.say("how many hours until midnight") ==
+        Lines{"It's 8 hours and 55 minutes until midnight."});
+  CHECK(harness.say("how long until 9 am") == Lines{"It's 17 hours and 55 minutes until 9 AM tomorrow."});
+  // In UTC+14 it is already Sunday: Christmas is a day nearer.
+  harness.robot().set_time_zone("Pacific/Kiritimati");
+  CHECK(harness.say("how many days till christmas") == Lines{"It's 33 days until Friday, 25 December."});
+}
