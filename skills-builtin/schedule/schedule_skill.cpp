@@ -182,7 +182,14 @@ class ScheduleSkill : public marvin::Skill {
     if (request.intent == "how_long") {
       return when_is(request.slots.at("task").get<std::string>(), /*how_long=*/true);
     }
-    if (request.intent == "cancel") return cancel(request.slots.at("task").get<std::string>());
+    if (request.intent == "cancel") {
+      // "Turn off the alarm": the alarm is the reminder; otherwise ask which.
+      std::string task = request.slots.value("task", std::string());
+      if (task.empty() && is_alarm(request.utterance)) task = "alarm";
+      if (task.empty()) task = task_answer(robot().ask("Which reminder should I cancel?"));
+      if (task.empty()) return robot().say("Sorry, I didn't get which. I left your reminders as they are.");
+      return cancel(task);
+    }
     if (request.intent == "move") return move(request);
     if (request.intent == "snooze") return snooze(request);
     if (request.intent == "done") return done(request.utterance);
@@ -710,6 +717,13 @@ class ScheduleSkill : public marvin::Skill {
       }
       for (const json& r : hits) robot().schedule_remove(r.at("id").get<std::int64_t>());
       robot().say("OK, I cancelled all " + std::to_string(hits.size()) + " reminders.");
+      return;
+    }
+    if (hits.empty() && is_alarm(task)) {
+      // "Stop the alarm" right after it rang: it rang once and is over.
+      const std::optional<json> fired = last_fired();
+      robot().say(fired && fired->value("title", "") == kAlarmTitle ? "OK, the alarm is off."
+                                                                    : "You have no alarm set.");
       return;
     }
     if (hits.empty()) {

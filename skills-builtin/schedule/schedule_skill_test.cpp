@@ -95,6 +95,25 @@ TEST_CASE("an alarm needs no task: wake me at 6 is 6 in the morning, and stored"
   CHECK(reminders(h).empty());
 }
 
+TEST_CASE("turn off the alarm: the alarm set, the one that just rang, or none") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  h.say("remind me to call the bank at 5 pm");
+  CHECK(h.say("stop the alarm") == Lines{"You have no alarm set."});
+  CHECK(reminders(h).size() == 1);  // the bank is no alarm
+  h.say("wake me up tomorrow at 6");
+  CHECK(h.say("turn off my alarm") == Lines{"OK, I cancelled the alarm."});
+  REQUIRE(reminders(h).size() == 1);
+  CHECK(reminders(h)[0]["title"] == "call the bank");
+  // An alarm that has rung and is over (here marked done): stopping it is no error.
+  h.say("wake me up tomorrow at 6");
+  h.robot().set_last_fired(reminders(h).at(1)["id"].get<std::int64_t>());
+  h.say("done");
+  CHECK(h.say("silence the alarm") == Lines{"OK, the alarm is off."});
+  CHECK(h.say("cancel a reminder", {"dentist"}) ==
+        Lines{"Which reminder should I cancel?", "I couldn't find a reminder about dentist."});
+}
+
 TEST_CASE("a reminder said without its task: the skill asks for it; no answer, nothing stored") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   berlin(h);
