@@ -119,12 +119,23 @@ std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
       return SlotValue{join(words), nlohmann::json(*seconds)};
     }
     case SlotType::kDateTime: {
-      auto phrase = parse_time_phrase(words);
-      if (!phrase) return std::nullopt;
-      if (cue.morning && !phrase->evening) phrase->morning = true;
-      auto value = resolve_time_phrase(*phrase, context.now_utc_ms, context.time_zone);
-      if (!value) return std::nullopt;
-      return SlotValue{join(words), std::move(*value)};
+      std::vector<TimePhrase> phrases = parse_time_phrases(words);
+      if (phrases.empty()) return std::nullopt;
+      // "at 9 am and 9 pm": the first time is the value, the others are listed in "also".
+      nlohmann::json value;
+      for (TimePhrase& phrase : phrases) {
+        if (cue.morning && !phrase.evening) phrase.morning = true;
+        auto resolved = resolve_time_phrase(phrase, context.now_utc_ms, context.time_zone);
+        if (!resolved) return std::nullopt;
+        if (value.is_null()) {
+          value = std::move(*resolved);
+        } else if ((*resolved)["at"] == value["at"]) {
+          return std::nullopt;  // "at 8 pm and 8 pm": one time said twice is no pair
+        } else {
+          value["also"].push_back(std::move(*resolved));
+        }
+      }
+      return SlotValue{join(words), std::move(value)};
     }
     case SlotType::kContact: {
       auto name = contacts.find(words);
@@ -149,7 +160,7 @@ std::optional<SlotValue> read_slot_value(const PreparedSlot& slot,
       // "the" or "of the" is no value; a person or thing must look like one.
       if (only_function_words(words)) return std::nullopt;
       // Nor is a time alone: "remind me at 6" must not make "at 6" the task.
-      if (parse_time_phrase(words)) return std::nullopt;
+      if (!parse_time_phrases(words).empty()) return std::nullopt;
       if (slot.entity && !contacts.find(words) && !plausible_entity(words, WordNet::installed())) {
         return std::nullopt;
       }

@@ -607,6 +607,58 @@ std::optional<TimePhrase> parse_time_phrase(std::span<const std::string> words) 
   return TimeReader(words).read();
 }
 
+namespace {
+
+// What day(s) a phrase names, as opposed to the time of day it names.
+bool names_day(const TimePhrase& p) {
+  return p.kind != RecurrenceKind::kOnce || p.day_offset || p.weekday_mask != 0 ||
+         p.month != 0 || p.range != DayRange::kNone;
+}
+bool names_time_of_day(const TimePhrase& p) { return p.time || p.default_hour != 0; }
+void copy_day(const TimePhrase& from, TimePhrase& to) {
+  to.kind = from.kind;
+  to.day_offset = from.day_offset;
+  to.weekday_mask = from.weekday_mask;
+  to.month = from.month;
+  to.day_of_month = from.day_of_month;
+  to.year = from.year;
+}
+
+}  // namespace
+
+std::vector<TimePhrase> parse_time_phrases(std::span<const std::string> words) {
+  if (auto one = parse_time_phrase(words)) return {*one};
+  for (std::size_t i = 1; i + 1 < words.size(); ++i) {
+    if (words[i] != "and") continue;
+    std::optional<TimePhrase> a = parse_time_phrase(words.first(i));
+    std::optional<TimePhrase> b = parse_time_phrase(words.subspan(i + 1));
+    if (!a || !b) continue;
+    // Two times of one day or one recurrence: not "in 20 minutes", "every 2 hours", a
+    // week, or two days ("monday at 9 and tuesday at 10" is two requests).
+    bool joinable = true;
+    for (const TimePhrase* p : {&*a, &*b}) {
+      joinable = joinable && !p->in_seconds && p->kind != RecurrenceKind::kInterval &&
+                 p->range == DayRange::kNone && names_time_of_day(*p);
+    }
+    if (!joinable || (names_day(*a) && names_day(*b))) continue;
+    if (names_day(*a)) copy_day(*a, *b);
+    if (names_day(*b)) copy_day(*b, *a);
+    // "at 8 and 8 pm": the bare hour is the other half of the day, not the same 8 PM.
+    auto other_half = [](TimePhrase& bare, const TimePhrase& clear) {
+      if (!bare.time || !bare.time->ambiguous || !clear.time || clear.time->ambiguous) return;
+      if (clear.time->hour >= 12) {
+        bare.morning = true;
+      } else {
+        bare.evening = true;
+      }
+    };
+    other_half(*a, *b);
+    other_half(*b, *a);
+    return {*a, *b};
+  }
+  return {};
+}
+
 const char* weekday_name(int weekday) {
   if (weekday < 0 || weekday > 6) return "";
   return kWeekdays[static_cast<std::size_t>(weekday)].data();

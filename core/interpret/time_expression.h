@@ -30,6 +30,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace marvin::interpret {
 
@@ -61,6 +62,11 @@ struct TimePhrase {
 
 // The whole span must be one expression; nullopt otherwise.
 std::optional<TimePhrase> parse_time_phrase(std::span<const std::string> words);
+
+// One expression, or two times of day joined by "and" that share the day or recurrence
+// one of them names: "every day at 9 am and 9 pm", "tomorrow at 8 and at 6",
+// "every morning and evening". Empty when the span is neither.
+std::vector<TimePhrase> parse_time_phrases(std::span<const std::string> words);
 
 // "sunday" ... "saturday" for 0..6.
 const char* weekday_name(int weekday);

@@ -9,6 +9,9 @@
 //   a day range ("next week", "this weekend") adds "days":N; "at" is then its first day
 //   (09:00, or now when the range starts today after 09:00).
 //
+//   Two times of one day ("every day at 9 am and 9 pm", parse_time_phrases) are the first
+//   one's value with "also": [the second's value] (the datetime slot parser adds it).
+//
 // "at" is the first occurrence strictly after now, as local wall time. Rules:
 // - An ambiguous hour ("at 8") on its own is the next of 08:00 / 20:00. With a day or a
 //   recurrence it reads 7..11 as morning and 1..6 as afternoon ("tomorrow at 3" = 15:00);

@@ -219,8 +219,7 @@ class ScheduleSkill : public marvin::Skill {
   void remind(const marvin::Request& request, bool event = false) {
     const json& when = request.slots.at("when");
     if (!request.slots.contains("task") && is_alarm(request.utterance)) {
-      const json created = add_reminder(kAlarmTitle, when);
-      robot().say("OK, I'll wake you " + spoken_when(created) + ".");
+      robot().say("OK, I'll wake you " + spoken_whens(add_reminders(kAlarmTitle, when)) + ".");
       return;
     }
     std::string task;
@@ -234,10 +233,9 @@ class ScheduleSkill : public marvin::Skill {
       }
     }
     task = with_names(task, request.utterance);
-    const json created = add_reminder(task, when);
+    const std::string spoken = spoken_whens(add_reminders(task, when));
     if (event) {
-      robot().say("OK, I put " + second_person(task) + " on your calendar " + spoken_when(created) +
-                  ".");
+      robot().say("OK, I put " + second_person(task) + " on your calendar " + spoken + ".");
       return;
     }
     // "don't let me forget the bins": a thing, not a thing to do.
@@ -246,7 +244,7 @@ class ScheduleSkill : public marvin::Skill {
     const std::vector<std::string> first = words_of(lower(task));
     const bool thing = !first.empty() && kThingFirst.count(first[0]) > 0;
     robot().say(std::string("OK, I'll remind you ") + (thing ? "about " : "to ") +
-                second_person(task) + " " + spoken_when(created) + ".");
+                second_person(task) + " " + spoken + ".");
   }
 
   // "I have a doctor's appointment on Tuesday at 10:30", "my daughter is coming on Friday":
@@ -382,6 +380,40 @@ class ScheduleSkill : public marvin::Skill {
     if (when.contains("time_zone")) reminder["time_zone"] = when["time_zone"];
     if (when.contains("recurrence")) reminder["recurrence"] = when["recurrence"];
     return robot().schedule_add(reminder);
+  }
+
+  // One reminder per time of a datetime slot: "every day at 9 am and 9 pm" is two, the
+  // second in the slot's "also".
+  std::vector<json> add_reminders(const std::string& title, const json& when) {
+    std::vector<json> created{add_reminder(title, when)};
+    for (const json& also : when.value("also", json::array())) {
+      created.push_back(add_reminder(title, also));
+    }
+    return created;
+  }
+
+  // "every day at 9 AM and 9 PM" (what the two share said once), "today at 9 PM and
+  // tomorrow at 8 AM".
+  std::string spoken_whens(std::vector<json> created) {
+    // Soonest first; repeating ones by the time of day ("9 AM and 9 PM" said at noon).
+    auto key = [](const json& r) {
+      const std::string at = r.value("at", "");
+      const bool once = r.value("recurrence", json::object()).value("kind", "once") == "once";
+      return once || at.size() < 11 ? at : at.substr(11);
+    };
+    std::stable_sort(created.begin(), created.end(),
+                     [&](const json& a, const json& b) { return key(a) < key(b); });
+    std::string first = spoken_when(created.at(0));
+    for (std::size_t i = 1; i < created.size(); ++i) {
+      const std::string next = spoken_when(created[i]);
+      const std::size_t at = first.rfind(" at ");
+      if (at != std::string::npos && next.compare(0, at + 4, first, 0, at + 4) == 0) {
+        first += " and " + next.substr(at + 4);
+      } else {
+        first += " and " + next;
+      }
+    }
+    return first;
   }
 
   // "tomorrow at 6 AM", "every day at 8 AM", "every 2 hours, starting today at 3 PM".

@@ -4,6 +4,7 @@
 #include <dlfcn.h>
 
 #include <map>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -37,6 +38,26 @@ TEST_CASE("remind me to take my pills at 8 pm: stored, then acknowledged") {
   CHECK(stored[0]["title"] == "take my pills");
   CHECK(stored[0]["at"] == "2026-01-05T20:00");
   CHECK(stored[0]["time_zone"] == "Europe/Berlin");
+}
+
+TEST_CASE("pills twice a day: every day at 9 am and 9 pm is two reminders, said as one") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);  // Monday 10:00
+  CHECK(h.say("remind me to take my pills every day at 9 am and 9 pm") ==
+        Lines{"OK, I'll remind you to take your pills every day at 9 AM and 9 PM."});
+  CHECK(h.say("wake me up tomorrow at 6 and at 7") ==
+        Lines{"OK, I'll wake you tomorrow at 6 AM and 7 AM."});
+  CHECK(h.say("remind me to feed the cat at 8 and at 8 pm") ==
+        Lines{"OK, I'll remind you to feed the cat today at 8 PM and tomorrow at 8 AM."});
+  std::multiset<std::string> stored;  // title, time, recurrence of each
+  for (const json& r : reminders(h)) {
+    stored.insert(r["title"].get<std::string>() + " " + r["at"].get<std::string>() + " " +
+                  r["recurrence"]["kind"].get<std::string>());
+  }
+  CHECK(stored == std::multiset<std::string>{
+                      "take my pills 2026-01-06T09:00 daily", "take my pills 2026-01-05T21:00 daily",
+                      "time to wake up 2026-01-06T06:00 once", "time to wake up 2026-01-06T07:00 once",
+                      "feed the cat 2026-01-06T08:00 once", "feed the cat 2026-01-05T20:00 once"});
 }
 
 TEST_CASE("names in a reminder keep their capitals: as typed, or as in the address book") {

@@ -178,6 +178,45 @@ TEST_CASE("time expressions: recurrence objects and instants") {
   CHECK(when("in 20 minutes", context)["day_given"] == true);
 }
 
+TEST_CASE("time expressions: two times of one day or recurrence, joined by and") {
+  Context context = berlin_friday();  // 10:00
+  struct Case {
+    const char* text;
+    const char* at;
+    const char* also;
+    const char* kind;
+  };
+  const Case cases[] = {
+      {"every day at 9 am and 9 pm", "2024-03-30T09:00", "2024-03-29T21:00", "daily"},
+      {"every morning and evening", "2024-03-30T09:00", "2024-03-29T19:00", "daily"},
+      {"tomorrow at 8 and at 6", "2024-03-30T08:00", "2024-03-30T18:00", "once"},
+      {"at 8 and 6 on monday", "2024-04-01T08:00", "2024-04-01T18:00", "once"},
+      // The bare hour is the other half of the day: not 20:00 twice.
+      {"at 8 and at 8 pm", "2024-03-30T08:00", "2024-03-29T20:00", "once"},
+      {"at 11 am and 11", "2024-03-29T11:00", "2024-03-29T23:00", "once"},
+      {"every monday at 9 and 5 pm", "2024-04-01T09:00", "2024-04-01T17:00", "weekly"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.text);
+    nlohmann::json value = when(c.text, context);
+    REQUIRE(value.is_object());
+    CHECK(value["at"] == c.at);
+    CHECK(value["recurrence"]["kind"] == c.kind);
+    REQUIRE(value["also"].size() == 1);
+    CHECK(value["also"][0]["at"] == c.also);
+    CHECK(value["also"][0]["recurrence"]["kind"] == c.kind);
+  }
+  // One phrase with "and" inside stays one: no "also".
+  CHECK_FALSE(when("every tuesday and thursday at 6 pm", context).contains("also"));
+  // Not a pair: two days, a duration, an interval, a week, the same time twice, half of one.
+  for (const char* text : {"monday at 9 and tuesday at 10", "in 20 minutes and at 5",
+                           "every 2 hours and at 8", "next week and at 8", "at 8 pm and 8 pm",
+                           "at 8 and", "and at 8", "tomorrow and at 8 and at 9"}) {
+    CAPTURE(text);
+    CHECK(when(text, context).is_null());
+  }
+}
+
 TEST_CASE("time expressions: spring forward in Europe/Berlin (2024-03-31)") {
   Context context;
   context.time_zone = "Europe/Berlin";
