@@ -138,6 +138,19 @@ class HomeSkill : public marvin::Skill {
     }
     Resolution r = marvin_home_skill::resolve(devices, phrase, here);
     if (r.matches.empty()) {
+      // "the kitchen light and the hall light": each, unless one of them is unknown.
+      const std::vector<std::string> parts = split_on_and(phrase);
+      if (parts.size() > 1) {
+        std::vector<json> out;
+        for (const std::string& part : parts) {
+          const std::vector<json> some = pick(home, part, allow_many);
+          if (some.empty()) return {};  // told the user which one; nothing is switched
+          for (const json& d : some) {
+            if (std::find(out.begin(), out.end(), d) == out.end()) out.push_back(d);
+          }
+        }
+        return out;
+      }
       robot().say("I don't know a device called the " + marvin_home_skill::tidy(phrase) + ".");
       return {};
     }
@@ -160,6 +173,22 @@ class HomeSkill : public marvin::Skill {
     std::vector<json> out;
     for (std::size_t i : r.matches) out.push_back(devices[i]);
     return out;
+  }
+
+  // "the tv and the lamp" -> {"the tv", "the lamp"}; a phrase without "and" -> {phrase}.
+  static std::vector<std::string> split_on_and(const std::string& phrase) {
+    std::vector<std::string> parts(1);
+    for (const std::string& w : marvin_home_skill::words(phrase)) {
+      if (w == "and") {
+        parts.emplace_back();
+      } else {
+        parts.back() += (parts.back().empty() ? "" : " ") + w;
+      }
+    }
+    if (std::any_of(parts.begin(), parts.end(), [](const std::string& p) { return p.empty(); })) {
+      return {phrase};
+    }
+    return parts;
   }
 
   // Of the devices `shown`, those whose room `answer` names ("the one in the bedroom",

@@ -197,6 +197,34 @@ TEST_CASE("resolve: rooms, kinds, plurals") {
   CHECK(all.plural);
   CHECK(resolve(devices, "the lights in the house", "hall").matches.size() == 3);
   CHECK(resolve(devices, "both bedroom things", "hall").matches == std::vector<std::size_t>{2, 3});
+  // A device named a lamp: "the lamp" is it, from any room; the lamp is still a light.
+  CHECK(resolve(devices, "the lamp", "hall").matches == std::vector<std::size_t>{1});
+  CHECK(resolve(devices, "the lamps", "bedroom").matches == std::vector<std::size_t>{1});
+  CHECK(resolve(devices, "the light", "living room").matches == std::vector<std::size_t>{1});
+  // With no device named a lamp, "lamp" is any light (the room's first).
+  const json no_lamp = json::parse(R"([{"name": "hall light", "room": "hall", "type": "light"},
+    {"name": "bedroom light", "room": "bedroom", "type": "light"}])");
+  CHECK(resolve(no_lamp, "the lamp", "bedroom").matches == std::vector<std::size_t>{1});
+}
+
+TEST_CASE("two devices joined by and: both switched; one unknown: neither, and it is named") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);
+  CHECK(h.say("turn on the kitchen light and the hall light") ==
+        Lines{"The kitchen light and the hall light are on."});
+  CHECK(sent(h) == Lines{R"(smarthome_set kitchen {"on":true})", R"(smarthome_set hall {"on":true})"});
+  h.robot().clear();
+  CHECK(h.say("switch off the tv and the lamp") == Lines{"The tv and the living room lamp are off."});
+  CHECK(sent(h) == Lines{R"(smarthome_set tv {"on":false})", R"(smarthome_set lamp {"on":false})"});
+  h.robot().clear();
+  CHECK(h.say("turn on the bedroom light and the garage light") ==
+        Lines{"I don't know a device called the garage light."});
+  CHECK(sent(h).empty());
+  CHECK(state(h, "bed")["on"] == false);
+  // "them" after it: both again.
+  h.say("turn on the kitchen light and the hall light");
+  h.robot().clear();
+  CHECK(h.say("turn them off") == Lines{"The kitchen light and the hall light are off."});
 }
 
 // world() plus a thermostat in the living room and one in the bedroom (5 to 30 degrees).

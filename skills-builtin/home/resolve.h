@@ -4,7 +4,8 @@
 //   1. A device's exact name or alias wins ("the big lamp").
 //   2. Otherwise a room named in the phrase narrows to that room, and the remaining words
 //      must all fit the device: words of its name, or its kind ("light", "lamp", "fan",
-//      "switch", "tv"); "lights" and the like are plural.
+//      "switch", "tv"; "lamp" only names lamps when some device is named one); "lights"
+//      and the like are plural.
 //   3. Without a room in the phrase, devices in the room the robot is in are preferred.
 //   4. Several left: all of them when the phrase was plural, else ambiguous (the skill asks).
 // "all", "every", "both" or the whole home ("in the house", "everywhere") make the phrase
@@ -140,6 +141,20 @@ inline Resolution resolve(const nlohmann::json& devices, const std::string& phra
                               return true;
                             }),
              rest.end());
+  // "The lamp" is the living room lamp, not any light, when a device is named a lamp; a
+  // kind word that names a shape ("lamp", "plug", "radiator"), unlike "light", is then
+  // only a word of names.
+  static const std::set<std::string> kShapes = {"lamp", "bulb", "plug", "socket", "radiator",
+                                                "heater"};
+  auto named_somewhere = [&](std::string w) {
+    if (w.size() > 1 && w.back() == 's' && !kShapes.count(w)) w.pop_back();
+    if (!kShapes.count(w)) return false;
+    for (const auto& d : devices) {
+      const std::vector<std::string> n = words(d.value("name", ""));
+      if (std::find(n.begin(), n.end(), w) != n.end()) return true;
+    }
+    return false;
+  };
   for (std::size_t i = 0; i < devices.size(); ++i) {
     const nlohmann::json& d = devices[i];
     if (!r.room.empty() && d.value("room", "") != r.room) continue;
@@ -154,7 +169,7 @@ inline Resolution resolve(const nlohmann::json& devices, const std::string& phra
         in_name = std::find(name.begin(), name.end(), singular) != name.end();
         if (in_name) r.plural = true;
       }
-      if (!in_name && !kind_word(w, type, &plural)) fits = false;
+      if (!in_name && (named_somewhere(w) || !kind_word(w, type, &plural))) fits = false;
       if (plural) r.plural = true;
     }
     if (fits) r.matches.push_back(i);
