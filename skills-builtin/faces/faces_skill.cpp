@@ -10,7 +10,8 @@
 //   "do you see a phone?" / "is there a cup?" (the 80 COCO things by the names people use:
 //        the list slot's values are core/vision/object_names.cpp's spoken names, checked
 //        by vision_tests)  -> "Yes, I see two cups." / "No, I don't see a cup."
-//   "this is Anna" / "remember this face as Anna"
+//   "this is Anna" / "remember this face as Anna" / "this is my daughter" (Anna, from the
+//        contact book; a relation no contact has: "What is your neighbour's name?")
 //        -> asks "Shall I remember this face as Anna?"; only a yes enrols (from 5 frames)
 //   "forget Anna's face"     -> removes Anna and every embedding of her face
 //   "these are my keys"      -> learns the look of what is held up to the camera
@@ -131,14 +132,17 @@ class FacesSkill : public marvin::Skill {
       else if (r.intent == "who_is") who_is(r.slots.value("person", ""));
       else if (r.intent == "what_do_you_see") what_do_you_see();
       else if (r.intent == "is_there") is_there(lower(r.slots.at("object").get<std::string>()));
-      else if (r.intent == "enroll") enroll(person_name(r.slots.at("name").get<std::string>()));
+      else if (r.intent == "enroll") introduce(r.slots.at("name").get<std::string>(), true);
       else if (r.intent == "forget") forget(person_name(r.slots.at("name").get<std::string>()));
-      else if (r.intent == "teach_object") teach_object(lower(r.slots.at("thing").get<std::string>()));
+      else if (r.intent == "teach_object") introduce(r.slots.at("thing").get<std::string>(), false);
       else if (r.intent == "find_object") find_object(lower(r.slots.at("thing").get<std::string>()));
     } catch (const marvin::Error& e) {
       if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
       robot().log(MARVIN_LOG_WARNING, e.what());
-      robot().say("Sorry, I can't see anything right now: my camera is not working.");
+      // The camera, or (learning with a camera that works) the store that keeps faces.
+      robot().say(camera_works()
+                      ? "Sorry, I can't learn anything new right now: I have nowhere to keep it."
+                      : "Sorry, I can't see anything right now: my camera is not working.");
     }
   }
 
@@ -200,6 +204,57 @@ class FacesSkill : public marvin::Skill {
     const std::string one = (vowel ? "an " : "a ") + thing;
     if (n == 0) robot().say("No, I don't see " + one + ".");
     else robot().say("Yes, I see " + (n == 1 ? one : count_word(n) + " " + plural(thing)) + ".");
+  }
+
+  // "this is Anna", "this is my daughter Anna", "this is my neighbour", "these are my keys":
+  // a person is enrolled (by their name, asked for when only the relation was said), a
+  // thing is learnt. `person`: the request was to remember a face.
+  void introduce(const std::string& said, bool person) {
+    std::vector<std::string> w = marvin::builtin::words_in(lower(said));
+    if (!w.empty() && (w[0] == "my" || w[0] == "our")) w.erase(w.begin());
+    const bool relation = !w.empty() && is_relation(w[0]);
+    const std::vector<std::string> rest(relation ? w.begin() + 1 : w.begin(), w.end());
+    auto contact_named = [&](const std::vector<std::string>& words) -> std::string {
+      if (words.empty()) return "";
+      const json found = robot().contacts_find(join(words));
+      return found.size() == 1 ? found[0].value("name", "") : "";
+    };
+    std::string name = contact_named(rest);
+    if (name.empty() && relation) {
+      name = rest.empty() ? contact_named({w[0]}) : person_name(join(rest));
+      if (name.empty()) {
+        name = person_name(robot().ask("What is your " + w[0] + "'s name?"));
+        if (name.empty()) return robot().say("OK, I won't remember the face.");
+      }
+    }
+    if (name.empty() && !person) return teach_object(lower(said));
+    enroll(name.empty() ? person_name(said) : name);
+  }
+
+  bool camera_works() {
+    try {
+      robot().vision_look();
+      return true;
+    } catch (const marvin::Error& e) {
+      if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
+      return false;
+    }
+  }
+
+  // Words for the people in one's life: "my daughter Anna" is a person, "my keys" a thing.
+  static bool is_relation(const std::string& word) {
+    static const std::vector<std::string> kRelations = {
+        "daughter", "son",      "wife",     "husband",  "partner", "mother",     "mum",
+        "mom",      "father",   "dad",      "sister",   "brother", "grandson",   "granddaughter",
+        "grandchild", "niece",  "nephew",   "aunt",     "uncle",   "cousin",     "friend",
+        "neighbour", "neighbor", "carer",   "caregiver", "nurse",  "doctor",     "cleaner"};
+    return std::find(kRelations.begin(), kRelations.end(), word) != kRelations.end();
+  }
+
+  static std::string join(const std::vector<std::string>& words) {
+    std::string out;
+    for (const std::string& w : words) out += (out.empty() ? "" : " ") + w;
+    return out;
   }
 
   void enroll(const std::string& name) {

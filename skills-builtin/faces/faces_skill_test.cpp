@@ -28,6 +28,22 @@ TEST_CASE("who is this: a stranger, then Anna after 'this is Anna' and a yes") {
   CHECK(h.say("forget anna's face") == Lines{"I don't know Anna's face."});
 }
 
+TEST_CASE("this is my daughter: the contact book's name, a relation with a name, or asked") {
+  marvin::testing::SkillHarness h(FACES_SKILL_DIR);
+  h.robot().add_contact_json(R"({"name": "Anna Schmidt", "relation": "daughter"})");
+  h.robot().set_camera_view(kStranger);
+  CHECK(h.say("this is my daughter", {"yes"}) ==
+        Lines{"Shall I remember this face as Anna Schmidt?",
+              "Nice to meet you, Anna Schmidt. I'll remember your face."});
+  CHECK(h.say("this is my neighbour peter", {"yes"}) ==
+        Lines{"Shall I remember this face as Peter?", "Nice to meet you, Peter. I'll remember your face."});
+  // A relation no contact has: its name is asked.
+  CHECK(h.say("this is my son", {"It's Tom.", "yes"}) ==
+        Lines{"What is your son's name?", "Shall I remember this face as Tom?",
+              "Nice to meet you, Tom. I'll remember your face."});
+  CHECK(h.robot().enrolled_faces() == Lines{"Anna Schmidt", "Peter", "Tom"});
+}
+
 TEST_CASE("remember my face: asks the name (said any way), then who am I is answered to me") {
   marvin::testing::SkillHarness h(FACES_SKILL_DIR);
   h.robot().set_camera_view(kStranger);

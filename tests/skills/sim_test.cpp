@@ -245,3 +245,13 @@ TEST_CASE("Lua marvin.after timers fire on the host loop, in order, on the host 
                                            "Marvin: Ring!"});
 }
 #endif
+
+TEST_CASE("--in-memory keeps no faces: learning one says so, not that the camera is broken") {
+  // The simulated camera works ("what do you see" answers from the world); only the store
+  // that keeps faces and things is missing.
+  Result r = run_marvin("run --sim --in-memory", "this is my daughter\nyes\nthese are my keys\n");
+  CHECK(r.exit_code == 0);
+  CHECK(has_line(r, "Marvin: Shall I remember this face as Anna?"));  // the contact book's daughter
+  CHECK(count_containing(r, "I can't learn anything new right now: I have nowhere to keep it.") == 2);
+  CHECK(count_containing(r, "camera is not working") == 0);
+}
