@@ -14,6 +14,8 @@
 //        contact book; a relation no contact has: "What is your neighbour's name?")
 //        -> asks "Shall I remember this face as Anna?"; only a yes enrols (from 5 frames)
 //   "forget Anna's face"     -> removes Anna and every embedding of her face
+//   "forget my face"         -> the one known face in view, after "Shall I forget your face,
+//                               Tom?" and a yes
 //   "these are my keys"      -> learns the look of what is held up to the camera
 //   "do you see my keys?"    -> "Yes, I see your keys." / "No, I don't see your keys."
 // Consent: enrolment happens only after the spoken yes (the owner's: Marvin cannot yet tell
@@ -133,7 +135,7 @@ class FacesSkill : public marvin::Skill {
       else if (r.intent == "what_do_you_see") what_do_you_see();
       else if (r.intent == "is_there") is_there(lower(r.slots.at("object").get<std::string>()));
       else if (r.intent == "enroll") introduce(r.slots.at("name").get<std::string>(), true);
-      else if (r.intent == "forget") forget(person_name(r.slots.at("name").get<std::string>()));
+      else if (r.intent == "forget") forget_said(r.slots.value("name", ""));
       else if (r.intent == "teach_object") introduce(r.slots.at("thing").get<std::string>(), false);
       else if (r.intent == "find_object") find_object(lower(r.slots.at("thing").get<std::string>()));
     } catch (const marvin::Error& e) {
@@ -301,6 +303,35 @@ class FacesSkill : public marvin::Skill {
     } else {
       robot().say("No, I don't see your " + thing + ".");
     }
+  }
+
+  // "forget my daughter's face": the contact's name; "forget my face" (no name): the one
+  // known face in view, after a yes, since the name was not said.
+  void forget_said(const std::string& said) {
+    if (!said.empty()) {
+      std::vector<std::string> w = marvin::builtin::words_in(lower(said));
+      if (!w.empty() && (w[0] == "my" || w[0] == "our")) w.erase(w.begin());
+      if (!w.empty() && w.back().size() > 2 && w.back().compare(w.back().size() - 2, 2, "'s") == 0) {
+        w.back().resize(w.back().size() - 2);
+      }
+      const json found = w.empty() ? json::array() : robot().contacts_find(join(w));
+      return forget(found.size() == 1 ? found[0].value("name", "") : person_name(said));
+    }
+    const std::vector<std::string> people = people_in(robot().vision_look());
+    if (people.empty()) {
+      return robot().say("I don't see anyone. Please look at me, or tell me whose face to forget.");
+    }
+    if (people.size() > 1 || people[0].find("people") != std::string::npos) {
+      return robot().say("I see more than one person. Please tell me whose face to forget.");
+    }
+    if (people[0] == "someone I don't know") {
+      return robot().say("I don't know your face, so there is nothing to forget.");
+    }
+    const std::string answer = lower(robot().ask("Shall I forget your face, " + people[0] + "?"));
+    if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please do") {
+      return robot().say("OK, I'll keep it.");
+    }
+    forget(people[0]);
   }
 
   void forget(const std::string& name) {

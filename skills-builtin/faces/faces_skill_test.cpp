@@ -44,6 +44,26 @@ TEST_CASE("this is my daughter: the contact book's name, a relation with a name,
   CHECK(h.robot().enrolled_faces() == Lines{"Anna Schmidt", "Peter", "Tom"});
 }
 
+TEST_CASE("forget my face: the one known face in view after a yes; a relation's face by name") {
+  marvin::testing::SkillHarness h(FACES_SKILL_DIR);
+  h.robot().add_contact_json(R"({"name": "Anna Schmidt", "relation": "daughter"})");
+  h.robot().set_camera_view(R"({"faces":[]})");
+  CHECK(h.say("forget my face") ==
+        Lines{"I don't see anyone. Please look at me, or tell me whose face to forget."});
+  h.robot().set_camera_view(kStranger);
+  CHECK(h.say("forget my face") == Lines{"I don't know your face, so there is nothing to forget."});
+  h.say("remember my face", {"Tom", "yes"});
+  h.say("this is my daughter", {"yes"});
+  REQUIRE(h.robot().enrolled_faces() == Lines{"Tom", "Anna Schmidt"});
+  h.robot().set_camera_view(R"({"faces":[{"name":"Tom","box":[200,120,140,140]}]})");
+  CHECK(h.say("delete my face", {"no"}) == Lines{"Shall I forget your face, Tom?", "OK, I'll keep it."});
+  CHECK(h.robot().enrolled_faces() == Lines{"Tom", "Anna Schmidt"});
+  CHECK(h.say("forget my face", {"yes"}) ==
+        Lines{"Shall I forget your face, Tom?", "OK, I forgot Tom's face."});
+  CHECK(h.say("forget my daughter's face") == Lines{"OK, I forgot Anna Schmidt's face."});
+  CHECK(h.robot().enrolled_faces().empty());
+}
+
 TEST_CASE("remember my face: asks the name (said any way), then who am I is answered to me") {
   marvin::testing::SkillHarness h(FACES_SKILL_DIR);
   h.robot().set_camera_view(kStranger);
