@@ -151,9 +151,14 @@ class FacesSkill : public marvin::Skill {
  private:
   // "who am I", "what's my name": the speaker is the one in front of the camera.
   static bool asks_about_me(const std::string& utterance) {
+    // Not any "me": "who is in front of me" asks about someone else.
+    static constexpr const char* kMe[] = {" know me ", " recognise me ", " recognize me ",
+                                          " remember me "};
     const std::string u = " " + lower(utterance) + " ";
     return u.find(" i ") != std::string::npos || u.find(" am i") != std::string::npos ||
-           u.find(" my name") != std::string::npos;
+           u.find(" my name") != std::string::npos ||
+           std::any_of(std::begin(kMe), std::end(kMe),
+                       [&](const char* m) { return u.find(m) != std::string::npos; });
   }
 
   // `me`: said to the one asking ("You're Anna.").

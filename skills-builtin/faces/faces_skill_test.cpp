@@ -75,6 +75,7 @@ TEST_CASE("remember my face: asks the name (said any way), then who am I is answ
   CHECK(h.robot().enrolled_faces() == Lines{"Tom"});
   CHECK(h.say("who am I") == Lines{"You're Tom."});
   CHECK(h.say("do you know my name") == Lines{"You're Tom."});
+  CHECK(h.say("do you recognise me") == Lines{"You're Tom."});
   CHECK(h.say("who is this") == Lines{"That's Tom."});
 }
 
