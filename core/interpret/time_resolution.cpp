@@ -80,6 +80,8 @@ class Resolver {
     const int next_monday = 7 - monday_based;
     switch (range) {
       case DayRange::kThisWeek:
+        // On a Sunday the week is all but over: "this week" is today and the coming week.
+        if (monday_based == 6) return {0, 8};
         return {0, 7 - monday_based};
       case DayRange::kNextWeek:
         return {next_monday, 7};

@@ -7,7 +7,8 @@
 //     {"kind":"interval","every_seconds":7200}
 //
 //   a day range ("next week", "this weekend") adds "days":N; "at" is then its first day
-//   (09:00, or now when the range starts today after 09:00).
+//   (09:00, or now when the range starts today after 09:00). "This week" said on a Sunday
+//   is today and the coming week (8 days): the week that is ending has no days left.
 //
 //   Two times of one day ("every day at 9 am and 9 pm", parse_time_phrases) are the first
 //   one's value with "also": [the second's value] (the datetime slot parser adds it).

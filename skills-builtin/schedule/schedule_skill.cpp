@@ -23,6 +23,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <optional>
@@ -231,6 +232,10 @@ class ScheduleSkill : public marvin::Skill {
         robot().say("Sorry, I didn't get what to remind you of. Let's leave it for now.");
         return;
       }
+    }
+    // "I need to take my pills at 9" comes as the task "need to take my pills".
+    for (const char* lead : {"need to ", "have to ", "got to ", "must "}) {
+      if (task.rfind(lead, 0) == 0 && task.size() > std::strlen(lead)) task.erase(0, std::strlen(lead));
     }
     task = with_names(task, request.utterance);
     const std::string spoken = spoken_whens(add_reminders(task, when));

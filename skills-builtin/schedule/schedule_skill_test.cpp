@@ -541,6 +541,23 @@ TEST_CASE("remind me in an hour, with nothing fired, is a new reminder; snooze s
   CHECK(stored[0]["time_zone"] == "Europe/Berlin");
 }
 
+TEST_CASE("the time first, the task after \"for\", \"I have to\": the task is only the task") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);  // Monday 10:00
+  CHECK(h.say("at 5 pm remind me to take my pills") ==
+        Lines{"OK, I'll remind you to take your pills today at 5 PM."});
+  CHECK(h.say("set a reminder at 11 am for the doctor") ==
+        Lines{"OK, I'll remind you about the doctor today at 11 AM."});
+  CHECK(h.say("i have to take my pills at 9 pm") ==
+        Lines{"OK, I'll remind you to take your pills today at 9 PM."});
+  CHECK(h.say("i need to take my pills at 9 pm") ==
+        Lines{"OK, I'll remind you to take your pills today at 9 PM."});
+  std::multiset<std::string> titles;
+  for (const json& r : reminders(h)) titles.insert(r["title"].get<std::string>());
+  CHECK(titles ==
+        std::multiset<std::string>{"take my pills", "the doctor", "take my pills", "take my pills"});
+}
+
 TEST_CASE("remind me at 5 pm, the task not said: asked for, not read from \"pm\"") {
   marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
   berlin(h);

@@ -291,6 +291,9 @@ TEST_CASE("time expressions: day ranges (weeks run Monday to Sunday)") {
   context.now_utc_ms = utc_ms(2024_y / 3 / 31, hours(5));  // 07:00 local (CEST)
   CHECK(when("this weekend", context)["days"] == 1);
   CHECK(when("next week", context)["at"] == "2024-04-01T09:00");
+  // Sunday: "this week" is today and the coming week, not today alone.
+  CHECK(when("this week", context)["at"] == "2024-03-31T09:00");
+  CHECK(when("this week", context)["days"] == 8);
 }
 
 TEST_CASE("time expressions: \"wake me\" and \"alarm\" read an hour without am/pm as morning") {
