@@ -126,7 +126,7 @@ class GuidanceSkill : public marvin::Skill {
     if (r.intent == "guide")
       guide(lower(r.slots.value("place", std::string())));
     else if (r.intent == "way_clear")
-      way_clear();
+      way_clear(r.utterance);
     else if (r.intent == "in_front")
       in_front();
     else
@@ -217,14 +217,25 @@ class GuidanceSkill : public marvin::Skill {
     }
   }
 
-  void way_clear() {
+  // "Is the way clear?" and "is anything in my way?" ask the same with opposite answers.
+  void way_clear(const std::string& utterance) {
+    bool asks_for_obstacle = false;
+    for (const std::string& w : marvin::builtin::words_in(lower(utterance))) {
+      for (const char* o : {"anything", "something", "obstacle", "obstacles", "blocked",
+                            "blocking", "block"}) {
+        asks_for_obstacle = asks_for_obstacle || w == o;
+      }
+    }
     const Ahead a = nearest_ahead(robot().obstacle_scan());
     if (a.kind == Ahead::kClear || (a.x >= kClearM && a.kind != Ahead::kStepDown)) {
-      robot().say("Yes, the way ahead is clear for at least " + metres(a.x) + ".");
+      robot().say(asks_for_obstacle
+                      ? "No, nothing is in the way for at least " + metres(a.x) + "."
+                      : "Yes, the way ahead is clear for at least " + metres(a.x) + ".");
       return;
     }
-    robot().say("No: " + std::string(a.kind == Ahead::kLow ? "something low" : words(a.kind)) +
-                ", " + metres(a.x) + " ahead.");
+    robot().say((asks_for_obstacle ? "Yes: " : "No: ") +
+                std::string(a.kind == Ahead::kLow ? "something low" : words(a.kind)) + ", " +
+                metres(a.x) + " ahead.");
   }
 
   void in_front() {

@@ -34,6 +34,11 @@ TEST_CASE("is the way clear: a wall, a low thing, nothing") {
   CHECK(h.say("is the way clear") == Lines{"No: something low, 80 centimetres ahead."});
   h.robot().set_scan(sweep(9, 0, now));
   CHECK(h.say("is the way clear") == Lines{"Yes, the way ahead is clear for at least 2.5 metres."});
+  // Asked the other way round, the answer turns round too.
+  CHECK(h.say("is there anything in my way") ==
+        Lines{"No, nothing is in the way for at least 2.5 metres."});
+  h.robot().set_scan(sweep(1.0, 3.0, now));
+  CHECK(h.say("is anything in my way") == Lines{"Yes: a wall or something tall, one metre ahead."});
 }
 
 TEST_CASE("what's in front of me: the sonar's obstacle and what the camera recognises") {
