@@ -301,3 +301,16 @@ TEST_CASE("the sun is not the clock: sunset and sunrise are declined, the time i
   }
   CHECK(reading(in, "what time is it now") == "time/time");
 }
+
+TEST_CASE("going somewhere: the user's wish to go is guiding, Marvin's own trip is navigation") {
+  Interpreter in;
+  const fs::path repo = MARVIN_REPO_DIR;
+  for (const char* skill : {"hello", "navigation", "guidance", "finding", "time"})
+    add_skill(in, repo / "skills-builtin" / skill);
+  CHECK(reading(in, "i want to go to the kitchen") == "guidance/guide");
+  CHECK(reading(in, "I'd like to go to the bathroom") == "guidance/guide");
+  CHECK(reading(in, "help me get to the bedroom") == "guidance/guide");
+  CHECK(reading(in, "take me to the kitchen") == "guidance/guide");
+  CHECK(reading(in, "go to the kitchen") == "navigation/go_to");
+  CHECK(reading(in, "is there anything in my way") == "guidance/way_clear");
+}
