@@ -43,7 +43,24 @@ std::optional<Target> FloorMap::find(std::string_view name) const {
   for (const Place& p : people) {
     if (normalise_name(p.name) == want) return Target{Target::Kind::kPerson, p.name, p.at, p.room};
   }
+  // Other words for a room ("the toilet" is the bathroom), when no room or place has it.
+  for (const auto& [word, room_name] : room_synonyms()) {
+    if (word != want) continue;
+    for (const Room& r : rooms) {
+      if (normalise_name(r.name) == room_name) return Target{Target::Kind::kRoom, r.name, r.spot, r.name};
+    }
+  }
   return std::nullopt;
+}
+
+const std::vector<std::pair<std::string, std::string>>& room_synonyms() {
+  static const std::vector<std::pair<std::string, std::string>> kSynonyms = {
+      {"toilet", "bathroom"},      {"loo", "bathroom"},         {"lavatory", "bathroom"},
+      {"wc", "bathroom"},          {"restroom", "bathroom"},    {"washroom", "bathroom"},
+      {"lounge", "living room"},   {"sitting room", "living room"}, {"front room", "living room"},
+      {"living-room", "living room"}, {"hallway", "hall"},      {"corridor", "hall"},
+      {"bed room", "bedroom"},     {"kitchenette", "kitchen"}};
+  return kSynonyms;
 }
 
 Box FloorMap::bounds() const {

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "navigation/geometry.h"
@@ -61,7 +62,8 @@ struct FloorMap {
   const Room* room_at(Vec2 p) const;
   // A room, place or person by name: case and a leading "the " do not matter
   // ("The Kitchen" finds room "kitchen", "sofa" finds place "the sofa"). Rooms first,
-  // then places, then people; "me" is the owner.
+  // then places, then people; "me" is the owner; last, another word for a room the map has
+  // ("the toilet" is the bathroom, "the lounge" the living room: room_synonyms()).
   std::optional<Target> find(std::string_view name) const;
   // The smallest axis-aligned box holding every wall and room.
   Box bounds() const;
@@ -69,5 +71,8 @@ struct FloorMap {
 
 // Lower case, single spaces, without a leading "the ", "my " or "a ".
 std::string normalise_name(std::string_view name);
+
+// Words people use for a room -> the room's usual name: {"toilet", "bathroom"}, ...
+const std::vector<std::pair<std::string, std::string>>& room_synonyms();
 
 }  // namespace marvin::navigation

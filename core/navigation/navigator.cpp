@@ -78,6 +78,9 @@ std::vector<std::string> Navigator::place_names() const {
     names.push_back("the " + plain);
   };
   for (const Room& r : map_.rooms) add(r.name);
+  for (const auto& [word, room] : room_synonyms()) {
+    if (map_.find(word)) add(word);  // "the toilet", when the map has a bathroom
+  }
   for (const Place& p : map_.places) add(p.name);
   for (const Place& p : map_.people) names.push_back(p.name);
   if (!map_.owner.empty()) names.push_back("me");

@@ -39,6 +39,12 @@ TEST_CASE("the default home loads with its rooms, doors, places and devices") {
   CHECK(w.map.find("the kitchen")->name == "kitchen");
   CHECK(w.map.find("sofa")->name == "the sofa");
   CHECK(w.map.find("anna")->kind == marvin::navigation::Target::Kind::kPerson);
+  // Other words for a room the map has; none for one it lacks.
+  CHECK(w.map.find("the toilet")->name == "bathroom");
+  CHECK(w.map.find("The Lounge")->name == "living room");
+  CHECK(w.map.find("hallway")->name == "hall");
+  CHECK(w.map.find("the kitchenette")->name == "kitchen");
+  CHECK_FALSE(w.map.find("the garage").has_value());
   CHECK(w.devices.size() == 9);
   CHECK(w.devices.at(8).name == "bedroom thermostat");
   CHECK(w.devices.at(8).type == "thermostat");
@@ -57,6 +63,9 @@ TEST_CASE("a valid small world parses; a door cuts its wall") {
       "/tmp/w.json");
   CHECK(w.map.doors.size() == 1);
   CHECK(std::min(w.map.doors[0].a.y, w.map.doors[0].b.y) == doctest::Approx(1.05));
+  // No bathroom here: "the toilet" is no room (not the hall, not the nearest).
+  CHECK_FALSE(w.map.find("the toilet").has_value());
+  CHECK(w.map.find("hallway")->name == "hall");
 }
 
 TEST_CASE("malformed world files name the element and the field") {
