@@ -47,7 +47,9 @@ std::optional<Target> FloorMap::find(std::string_view name) const {
   for (const auto& [word, room_name] : room_synonyms()) {
     if (word != want) continue;
     for (const Room& r : rooms) {
-      if (normalise_name(r.name) == room_name) return Target{Target::Kind::kRoom, r.name, r.spot, r.name};
+      if (normalise_name(r.name) == room_name) {
+        return Target{Target::Kind::kRoom, r.name, r.spot, r.name};
+      }
     }
   }
   return std::nullopt;

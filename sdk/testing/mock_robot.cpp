@@ -69,7 +69,8 @@ std::vector<devices::ScanPoint> MockRobot::Impl::latest_scan() {
   // the mock's body clock stands still, so points come out exactly as the test set them.
   std::vector<devices::ScanPoint> out;
   for (const auto& p : scan) {
-    out.push_back(devices::ScanPoint{p.angle_deg, p.distance_m, kSteadyNowMs - (now_ms - p.time_ms)});
+    out.push_back(
+        devices::ScanPoint{p.angle_deg, p.distance_m, kSteadyNowMs - (now_ms - p.time_ms)});
   }
   return out;
 }

@@ -316,8 +316,8 @@ class FacesSkill : public marvin::Skill {
     if (!said.empty()) {
       std::vector<std::string> w = marvin::builtin::words_in(lower(said));
       if (!w.empty() && (w[0] == "my" || w[0] == "our")) w.erase(w.begin());
-      if (!w.empty() && w.back().size() > 2 && w.back().compare(w.back().size() - 2, 2, "'s") == 0) {
-        w.back().resize(w.back().size() - 2);
+      if (!w.empty() && w.back().size() > 2 && w.back().ends_with("'s")) {
+        w.back().resize(w.back().size() - 2);  // "my daughter's face"
       }
       const json found = w.empty() ? json::array() : robot().contacts_find(join(w));
       return forget(found.size() == 1 ? found[0].value("name", "") : person_name(said));

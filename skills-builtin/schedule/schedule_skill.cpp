@@ -188,7 +188,9 @@ class ScheduleSkill : public marvin::Skill {
       std::string task = request.slots.value("task", std::string());
       if (task.empty() && is_alarm(request.utterance)) task = "alarm";
       if (task.empty()) task = task_answer(robot().ask("Which reminder should I cancel?"));
-      if (task.empty()) return robot().say("Sorry, I didn't get which. I left your reminders as they are.");
+      if (task.empty()) {
+        return robot().say("Sorry, I didn't get which. I left your reminders as they are.");
+      }
       return cancel(task);
     }
     if (request.intent == "move") return move(request);
@@ -235,7 +237,8 @@ class ScheduleSkill : public marvin::Skill {
     }
     // "I need to take my pills at 9" comes as the task "need to take my pills".
     for (const char* lead : {"need to ", "have to ", "got to ", "must "}) {
-      if (task.rfind(lead, 0) == 0 && task.size() > std::strlen(lead)) task.erase(0, std::strlen(lead));
+      const std::size_t n = std::strlen(lead);
+      if (task.rfind(lead, 0) == 0 && task.size() > n) task.erase(0, n);
     }
     task = with_names(task, request.utterance);
     const std::string spoken = spoken_whens(add_reminders(task, when));
@@ -816,7 +819,9 @@ class ScheduleSkill : public marvin::Skill {
       // "Remind me in an hour" with nothing announced: a new reminder, an hour from now
       // (not "snooze it for ten minutes", "remind me again in five minutes").
       const std::vector<std::string> said = words_of(lower(request.utterance));
-      const auto has = [&](const char* w) { return std::find(said.begin(), said.end(), w) != said.end(); };
+      const auto has = [&](const char* w) {
+        return std::find(said.begin(), said.end(), w) != said.end();
+      };
       if (has("remind") && !has("again")) return remind_in(request, seconds);
     }
     if (!fired) {

@@ -102,14 +102,16 @@ class TimeSkill : public marvin::Skill {
     const auto days = (*day - today).count();
     if (when.value("time_given", false) && !when.value("day_given", false) && at.size() >= 16) {
       const int hour = std::stoi(at.substr(11, 2)), minute = std::stoi(at.substr(14, 2));
-      const date::local_seconds target = *day + std::chrono::hours{hour} + std::chrono::minutes{minute};
+      const date::local_seconds target =
+          *day + std::chrono::hours{hour} + std::chrono::minutes{minute};
       const auto minutes = std::chrono::duration_cast<std::chrono::minutes>(target - now).count();
       // The hour as it was asked: "until midnight", "until 5 PM" (not "12:00 AM", "5:00 PM").
       std::string until = clock_text(target);
       if (minute == 0) {
+        const std::string twelve = std::to_string(hour % 12 == 0 ? 12 : hour % 12);
         until = hour == 0    ? "midnight"
                 : hour == 12 ? "noon"
-                             : std::to_string(hour % 12 == 0 ? 12 : hour % 12) + (hour < 12 ? " AM" : " PM");
+                             : twelve + (hour < 12 ? " AM" : " PM");
       }
       robot().say("It's " + spoken_minutes(minutes) + " until " + until +
                   (days > 0 && hour != 0 ? " tomorrow." : "."));
