@@ -228,11 +228,12 @@ void HostLoop::take_over(std::unique_lock<std::mutex>& lock, const std::string& 
 void HostLoop::route(std::string line) {
   // A call for help while a task runs or asks: the task is stopped, not waited for, and the
   // call is no answer to its question. Checked unlocked: the interpreter takes a while.
-  const bool busy = manager_ && manager_->busy();
-  const bool urgent = busy && manager_->urgent(line);
   // A request said in answer to a task's yes-or-no question ("Shall I look again?" "What
   // time is it?") declines it and is taken: the user has moved on.
-  const bool request = busy && !urgent && manager_->is_request(line);
+  const Manager::Standing standing = manager_ && manager_->busy() ? manager_->standing(line)
+                                                                  : Manager::Standing::kNone;
+  const bool urgent = standing == Manager::Standing::kUrgent;
+  const bool request = standing == Manager::Standing::kRequest;
   std::unique_lock lock(mutex_);
   if (shutting_down_) {  // taken just before shut_down(): dropped with the rest
     holding_ = false;

@@ -419,23 +419,19 @@ void Manager::handle_next_request() {
   handle(next);
 }
 
-bool Manager::is_request(std::string_view utterance) const {
+Manager::Standing Manager::standing(std::string_view utterance) const {
   const interpret::Interpreter& interpreter = registry_.interpreter();
-  if (interpreter.builtin(utterance) != interpret::Builtin::kNone) return false;
+  if (interpreter.builtin(utterance) != interpret::Builtin::kNone) return Standing::kNone;
   const interpret::Understanding u = interpreter.understand(utterance, context());
-  return u.outcome == interpret::Understanding::Outcome::kMatch && u.match->confidence >= 1.0F;
-}
-
-bool Manager::urgent(std::string_view utterance) const {
-  const interpret::Understanding u = registry_.interpreter().understand(utterance, context());
   if (u.outcome != interpret::Understanding::Outcome::kMatch || u.match->confidence < 1.0F) {
-    return false;
+    return Standing::kNone;
   }
   const LoadedSkill* skill = registry_.find(u.match->skill_id);
   const IntentDecl* intent = skill ? skill->manifest.intent(u.match->intent) : nullptr;
   std::lock_guard lock(mutex_);
   // "Help! Help!": a second call for help does not stop the first.
-  return intent && intent->urgent && !(busy_ && running_urgent_);
+  const bool urgent = intent && intent->urgent && !(busy_ && running_urgent_);
+  return urgent ? Standing::kUrgent : Standing::kRequest;
 }
 
 bool Manager::confirm(const IntentDecl& intent, const interpret::Match& match) {

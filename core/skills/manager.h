@@ -81,13 +81,13 @@ class Manager : public User {
   void on_voice_style(std::function<void(VoiceStyle)> hook) { voice_hook_ = std::move(hook); }
   VoiceStyle voice_style() const { return voice_style_; }  // the host loop's thread
 
-  // Whether `utterance` is, word for word, a request of an intent marked "urgent" (a call
-  // for help) and the task running, if any, is not one: the host loop lets it stop that
-  // task. The host loop's thread only.
-  bool urgent(std::string_view utterance) const;
-  // Whether `utterance` is, word for word, a request of some skill (a template at full
-  // confidence) and no word of the dialogue (yes, no, stop). The host loop's thread only.
-  bool is_request(std::string_view utterance) const;
+  // What `utterance` is while a task runs, read once: kRequest when it is, word for word, a
+  // request of some skill (a template at full confidence) and no word of the dialogue (yes,
+  // no, stop); kUrgent when that intent is marked "urgent" (a call for help) and the task
+  // running, if any, is not one, so the host loop lets it stop that task. The host loop's
+  // thread only.
+  enum class Standing { kNone, kRequest, kUrgent };
+  Standing standing(std::string_view utterance) const;
   // The user answered the running task's yes-or-no question with a new request: the task is
   // stopped as by stop(), but Marvin says "OK, I'll leave that." (any thread).
   void leave_task();

@@ -32,6 +32,13 @@ inline std::vector<std::string> words_in(const std::string& text) {
   return words;
 }
 
+// {"the", "kitchen", "light"} -> "the kitchen light".
+inline std::string join_words(const std::vector<std::string>& words) {
+  std::string out;
+  for (const std::string& w : words) out += (out.empty() ? "" : " ") + w;
+  return out;
+}
+
 // "the kitchen light is on" -> "The kitchen light is on".
 inline std::string capital(std::string s) {
   if (!s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));

@@ -217,18 +217,12 @@ class FacesSkill : public marvin::Skill {
   // a person is enrolled (by their name, asked for when only the relation was said), a
   // thing is learnt. `person`: the request was to remember a face.
   void introduce(const std::string& said, bool person) {
-    std::vector<std::string> w = marvin::builtin::words_in(lower(said));
-    if (!w.empty() && (w[0] == "my" || w[0] == "our")) w.erase(w.begin());
+    const std::vector<std::string> w = person_words(said);
     const bool relation = !w.empty() && is_relation(w[0]);
     const std::vector<std::string> rest(relation ? w.begin() + 1 : w.begin(), w.end());
-    auto contact_named = [&](const std::vector<std::string>& words) -> std::string {
-      if (words.empty()) return "";
-      const json found = robot().contacts_find(join(words));
-      return found.size() == 1 ? found[0].value("name", "") : "";
-    };
     std::string name = contact_named(rest);
     if (name.empty() && relation) {
-      name = rest.empty() ? contact_named({w[0]}) : person_name(join(rest));
+      name = rest.empty() ? contact_named({w[0]}) : person_name(marvin::builtin::join_words(rest));
       if (name.empty()) {
         name = person_name(robot().ask("What is your " + w[0] + "'s name?"));
         if (name.empty()) return robot().say("OK, I won't remember the face.");
@@ -236,6 +230,27 @@ class FacesSkill : public marvin::Skill {
     }
     if (name.empty() && !person) return teach_object(lower(said));
     enroll(name.empty() ? person_name(said) : name);
+  }
+
+  // "my daughter's" -> {"daughter"}: the words that may name a person, lower case.
+  static std::vector<std::string> person_words(const std::string& said) {
+    std::vector<std::string> w = marvin::builtin::words_in(said);  // lower case
+    if (!w.empty() && (w[0] == "my" || w[0] == "our")) w.erase(w.begin());
+    if (!w.empty() && w.back().size() > 2 && w.back().ends_with("'s")) {
+      w.back().resize(w.back().size() - 2);
+    }
+    return w;
+  }
+
+  // The one contact those words name ("daughter", "anna"), else "".
+  std::string contact_named(const std::vector<std::string>& words) {
+    if (words.empty()) return "";
+    const json found = robot().contacts_find(marvin::builtin::join_words(words));
+    return found.size() == 1 ? found[0].value("name", "") : "";
+  }
+
+  static bool is_yes(const std::string& answer) {
+    return answer.rfind("yes", 0) == 0 || answer.rfind("yeah", 0) == 0 || answer == "please do";
   }
 
   bool camera_works() {
@@ -258,16 +273,10 @@ class FacesSkill : public marvin::Skill {
     return std::find(kRelations.begin(), kRelations.end(), word) != kRelations.end();
   }
 
-  static std::string join(const std::vector<std::string>& words) {
-    std::string out;
-    for (const std::string& w : words) out += (out.empty() ? "" : " ") + w;
-    return out;
-  }
-
   void enroll(const std::string& name) {
     const std::string answer =
         lower(robot().ask("Shall I remember this face as " + name + "?"));
-    if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please do") {
+    if (!is_yes(answer)) {
       robot().say("OK, I won't remember it.");
       return;
     }
@@ -314,13 +323,8 @@ class FacesSkill : public marvin::Skill {
   // known face in view, after a yes, since the name was not said.
   void forget_said(const std::string& said) {
     if (!said.empty()) {
-      std::vector<std::string> w = marvin::builtin::words_in(lower(said));
-      if (!w.empty() && (w[0] == "my" || w[0] == "our")) w.erase(w.begin());
-      if (!w.empty() && w.back().size() > 2 && w.back().ends_with("'s")) {
-        w.back().resize(w.back().size() - 2);  // "my daughter's face"
-      }
-      const json found = w.empty() ? json::array() : robot().contacts_find(join(w));
-      return forget(found.size() == 1 ? found[0].value("name", "") : person_name(said));
+      const std::string contact = contact_named(person_words(said));
+      return forget(contact.empty() ? person_name(said) : contact);
     }
     const std::vector<std::string> people = people_in(robot().vision_look());
     if (people.empty()) {
@@ -333,7 +337,7 @@ class FacesSkill : public marvin::Skill {
       return robot().say("I don't know your face, so there is nothing to forget.");
     }
     const std::string answer = lower(robot().ask("Shall I forget your face, " + people[0] + "?"));
-    if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please do") {
+    if (!is_yes(answer)) {
       return robot().say("OK, I'll keep it.");
     }
     forget(people[0]);

@@ -220,7 +220,7 @@ class GuidanceSkill : public marvin::Skill {
   // "Is the way clear?" and "is anything in my way?" ask the same with opposite answers.
   void way_clear(const std::string& utterance) {
     bool asks_for_obstacle = false;
-    for (const std::string& w : marvin::builtin::words_in(lower(utterance))) {
+    for (const std::string& w : marvin::builtin::words_in(utterance)) {
       for (const char* o : {"anything", "something", "obstacle", "obstacles", "blocked",
                             "blocking", "block"}) {
         asks_for_obstacle = asks_for_obstacle || w == o;

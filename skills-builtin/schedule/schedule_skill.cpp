@@ -470,11 +470,8 @@ class ScheduleSkill : public marvin::Skill {
       return;
     }
     const std::int64_t fire_ms = robot().now_ms() + seconds * 1000;
-    const date::time_zone* zone = date::locate_zone(robot().time_zone());
-    const auto fire = date::sys_time<std::chrono::milliseconds>{std::chrono::milliseconds{fire_ms}};
-    const std::string at =
-        date::format("%Y-%m-%dT%H:%M", zone->to_local(date::floor<std::chrono::minutes>(fire)));
-    robot().schedule_add({{"title", kTimerTitle}, {"at", at}, {"utc_ms", fire_ms}});
+    robot().schedule_add(
+        {{"title", kTimerTitle}, {"at", local_minute(fire_ms)}, {"utc_ms", fire_ms}});
     robot().say("OK, timer set for " + spoken_duration(seconds) + ".");
   }
 
@@ -844,15 +841,18 @@ class ScheduleSkill : public marvin::Skill {
   }
 
   void remind_in(const marvin::Request& request, std::int64_t seconds) {
-    const std::int64_t fire_ms = robot().now_ms() + seconds * 1000;
-    const auto fire = date::sys_time<std::chrono::milliseconds>{std::chrono::milliseconds{fire_ms}};
-    const std::string at = date::format(
-        "%Y-%m-%dT%H:%M",
-        date::locate_zone(robot().time_zone())->to_local(date::floor<std::chrono::minutes>(fire)));
     marvin::Request reminder = request;
     reminder.slots = json::object();
-    reminder.slots["when"] = {{"at", at}, {"time_zone", robot().time_zone()}};
+    reminder.slots["when"] = {{"at", local_minute(robot().now_ms() + seconds * 1000)},
+                              {"time_zone", robot().time_zone()}};
     remind(reminder);
+  }
+
+  // Unix ms -> the owner's local "YYYY-MM-DDTHH:MM", to the minute.
+  std::string local_minute(std::int64_t unix_ms) {
+    const auto t = date::sys_time<std::chrono::milliseconds>{std::chrono::milliseconds{unix_ms}};
+    return date::format("%Y-%m-%dT%H:%M", date::locate_zone(robot().time_zone())
+                                              ->to_local(date::floor<std::chrono::minutes>(t)));
   }
 
   void done(const std::string& utterance) {
