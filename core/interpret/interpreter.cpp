@@ -745,7 +745,14 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     auto exact = impl.exact_matches(*words, context);
     std::optional<std::size_t> best;
     for (std::size_t k = 0; k < exact.size(); ++k) {
-      if (exact[k] && (!best || ranks_above(*exact[k], *exact[*best]))) best = k;
+      if (!exact[k]) continue;
+      // Templates that fit equally well go to the intent the model prefers, not to the
+      // first registered ("is there someone in the house": anyone_in's "is there someone in
+      // {room}" against where_is's "is {what} in the house").
+      if (!best || ranks_above(*exact[k], *exact[*best]) ||
+          (!ranks_above(*exact[*best], *exact[k]) && p[k] > p[*best])) {
+        best = k;
+      }
     }
     if (!best) continue;
     // Another skill's template also fits word for word and the model clearly prefers it

@@ -426,6 +426,12 @@ void MockRobot::block_place(std::string name, std::string reason) {
 void MockRobot::set_room(std::string room) {
   impl_->home.room = room;
   impl_->room = std::move(room);
+  impl_->heading = 0;
+  if (!impl_->room_views.empty()) {  // the camera sees the new room, as after go_to
+    auto view = impl_->room_views.find(impl_->room);
+    impl_->eyes.set_view(view != impl_->room_views.end() ? view->second
+                                                         : R"({"faces": [], "objects": []})");
+  }
 }
 const std::string& MockRobot::room() const { return impl_->room; }
 

@@ -4,6 +4,7 @@
 //   "find Anna" / "find my keys"                 -> searches: the room it was last seen in
 //        first, then the rooms in the robot's planned order; at each it looks around
 //   "is anyone in the kitchen?"                  -> goes there, looks around, says who
+//   "is anyone here?" / "is anyone home?"        -> this room / every room in turn
 //   "tell Anna dinner is ready"                  -> finds her, goes to her, says it
 //   "I'm going out" / "guard the house"          -> guard mode on
 //   "I'm home" / "stop guarding"                 -> off, only when it sees a face it knows
@@ -50,9 +51,14 @@ struct Wanted {
   bool person = false;
   bool mine = false;  // "my keys"
   std::string said() const { return person ? key : (mine ? "your " : "the ") + key; }
-  std::string verb() const {  // "is" / "are"
-    return !person && key.size() > 1 && key.back() == 's' ? "are" : "is";
+  // "keys", "glasses" are plural; "dress", "bus", "iris" and people are not.
+  bool plural() const {
+    if (person || key.size() < 3 || key.back() != 's') return false;
+    const char before = key[key.size() - 2];
+    return before != 's' && before != 'u' && before != 'i';
   }
+  std::string verb() const { return plural() ? "are" : "is"; }  // "is" / "are"
+  std::string them() const { return plural() ? "them" : "it"; }
 };
 
 // "wife", "grandson": someone, not a thing, though no contact has that relation.
@@ -88,7 +94,15 @@ class FindingSkill : public marvin::Skill {
     try {
       if (r.intent == "where_is") where_is(wanted(r.slots.value("what", std::string())), false);
       else if (r.intent == "find") where_is(wanted(r.slots.value("what", std::string())), true);
-      else if (r.intent == "anyone_in") anyone_in(trim_end(lower(r.slots.value("room", std::string()))));
+      else if (r.intent == "anyone_in") {
+        std::string room = trim_end(lower(r.slots.value("room", std::string())));
+        // "is anyone here?" names no room (the template has none): this room.
+        const std::string said = trim_end(lower(r.utterance));
+        if (room.empty() && said.size() >= 5 && said.compare(said.size() - 5, 5, " here") == 0) {
+          room = "here";
+        }
+        anyone_in(room);
+      }
       else if (r.intent == "tell") tell(r.slots.value("name", std::string()),
                                         trim_end(r.slots.value("message", std::string())));
       else if (r.intent == "guard_on") guard_on();
@@ -201,9 +215,10 @@ class FindingSkill : public marvin::Skill {
     }
     if (w.mine && !seen && !recognisable && is_relation(w.key)) return say_relation_unknown(w.key);
     if (!w.person && !seen && !recognisable) {
-      robot().say("I don't know what " + w.said() + " look like, and I have never seen " +
-                  (w.mine ? "them" : w.said()) + ". Show me and say \"these are my " + w.key +
-                  "\".");
+      robot().say("I don't know what " + w.said() + (w.plural() ? " look" : " looks") +
+                  " like, and I have never seen " + (w.mine ? w.them() : w.said()) +
+                  ". Show me and say \"" + (w.plural() ? "these are" : "this is") + " my " +
+                  w.key + "\".");
       return;
     }
     std::string first;
@@ -380,8 +395,20 @@ class FindingSkill : public marvin::Skill {
     return s;
   }
 
+  // "is anyone in the kitchen?", "is anyone here?" (this room, without moving), "is anyone
+  // home?" (no room, or the whole home named: every room in turn).
   void anyone_in(const std::string& said_room) {
-    const std::string name = strip_prefix(said_room, "the ");
+    const std::string said = strip_prefix(strip_prefix(said_room, "in "), "at ");
+    if (said.empty() || means_whole_home(said)) return anyone_home();
+    if (said == "here" || said == "in here" || said == "the room" || said == "this room") {
+      const std::optional<std::string> here = robot().where_am_i();
+      if (!here) return anyone_home();
+      const std::vector<std::string> who = people_seen(robot().look_around());
+      robot().say(who.empty() ? "No, I don't see anyone here."
+                              : "Yes: " + join_and(who) + are(who) + " here with us.");
+      return;
+    }
+    const std::string name = strip_prefix(said, "the ");
     auto place = robot().place_find(name);
     if (!place || place->value("kind", "") == "person") {
       robot().say("I don't know a room called " + said_room + ".");
@@ -395,17 +422,70 @@ class FindingSkill : public marvin::Skill {
       robot().say("I can't get to the " + room + ": " + e.what() + ".");
       return;
     }
-    std::vector<std::string> known;
-    const int unknown = strangers(robot().look_around().value("seen", json::array()), known);
-    static const char* kCounts[] = {"", "someone I don't know", "two people I don't know",
-                                    "three people I don't know"};
-    if (unknown > 0) known.push_back(unknown < 4 ? kCounts[unknown] : "several people I don't know");
-    if (known.empty()) {
+    const std::vector<std::string> who = people_seen(robot().look_around());
+    if (who.empty()) {
       robot().say("No, I don't see anyone in the " + room + ".");
     } else {
-      robot().say("Yes: " + join_and(known) + " " + (known.size() == 1 ? "is" : "are") +
-                  " in the " + room + ".");
+      robot().say("Yes: " + join_and(who) + are(who) + " in the " + room + ".");
     }
+  }
+
+  // " is" / " are" after people_seen's list: "Anna is", "two people I don't know are".
+  static std::string are(const std::vector<std::string>& who) {
+    const bool one = who.size() == 1 && who[0].rfind("two ", 0) != 0 &&
+                     who[0].rfind("three ", 0) != 0 && who[0].rfind("several ", 0) != 0;
+    return one ? " is" : " are";
+  }
+
+  static bool means_whole_home(const std::string& said) {
+    for (const char* w : {"home", "the house", "the home", "the flat", "the apartment", "house",
+                          "there", "around", "about", "anywhere", "the building"}) {
+      if (said == w) return true;
+    }
+    return false;
+  }
+
+  // Every room in the planned order: who is where. A room it cannot reach is named.
+  void anyone_home() {
+    robot().say("I'll have a look around the house.");
+    std::vector<std::string> found, looked, unreachable;
+    for (const std::string& room : robot().rooms_to_search()) {
+      robot().check_cancelled();
+      try {
+        robot().go_to(room);
+      } catch (const marvin::Error& e) {
+        if (e.status() != MARVIN_ERR_UNAVAILABLE && e.status() != MARVIN_ERR_NOT_FOUND) throw;
+        unreachable.push_back("the " + room);
+        continue;
+      }
+      looked.push_back("the " + room);
+      const std::vector<std::string> who = people_seen(robot().look_around());
+      if (!who.empty()) {
+        found.push_back(join_and(who) + are(who) + " in the " + room);
+      }
+    }
+    std::string sentence;
+    if (!found.empty()) {
+      sentence = "Yes: " + join_and(found) + ".";
+    } else if (!looked.empty()) {
+      sentence = "No, I didn't see anyone. I looked in " + join_and(looked) + ".";
+    } else {
+      sentence = "I couldn't look: I couldn't get into any room.";
+    }
+    if (!unreachable.empty() && !looked.empty()) {
+      sentence += " I couldn't get into " + join_and(unreachable) + ".";
+    }
+    robot().say(sentence);
+  }
+
+  // The people of a look_around, to be said: names first, then "someone I don't know".
+  static std::vector<std::string> people_seen(const json& look) {
+    std::vector<std::string> who;
+    const int unknown = strangers(look.value("seen", json::array()), who);
+    static const char* kCounts[] = {"", "someone I don't know", "two people I don't know",
+                                    "three people I don't know"};
+    if (unknown > 0) who.push_back(unknown < 4 ? kCounts[unknown] : "several people I don't know");
+    return who;
   }
 
   // The people of a look_around: names into `known` (once each); returns how many

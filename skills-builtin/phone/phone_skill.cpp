@@ -46,8 +46,23 @@ bool is_yes(const std::string& answer) {
 // "call for help" heard as "call {who}" with who = "for help".
 bool means_help(const std::string& who) {
   const std::string w = lower(who);
-  return w == "for help" || w == "help" || w == "an ambulance" || w == "someone for help" ||
-         w == "emergency" || w == "the emergency";
+  return w == "for help" || w == "help" || w == "someone for help" || w == "emergency" ||
+         w == "the emergency";
+}
+
+// "call an ambulance", "phone the police": a public service, which Marvin cannot dial unless
+// the owner saved it as a contact. Returns what to call it ("the police"), or "".
+std::string emergency_service(const std::string& who) {
+  std::string w = lower(who);
+  for (const char* article : {"the ", "an ", "a "}) {
+    if (w.rfind(article, 0) == 0) w.erase(0, std::string(article).size());
+  }
+  for (const char* service : {"ambulance", "police", "emergency services", "fire brigade",
+                              "fire department", "fire service", "paramedics", "emergency number",
+                              "emergency service"}) {
+    if (w == service) return w == "ambulance" ? "an ambulance" : "the " + w;
+  }
+  return "";
 }
 
 // "I want to talk to you", "can I speak to you for a moment": Marvin is meant, not a call.
@@ -141,6 +156,15 @@ class PhoneSkill : public marvin::Skill {
       auto it = request.slots.find("who");
       std::string who = it != request.slots.end() && it->is_string() ? it->get<std::string>() : "";
       if (means_help(who)) return call_for_help();
+      if (const std::string service = emergency_service(who); !service.empty()) {
+        json callee;
+        if (!phone([&] { callee = robot().phone_resolve(who); })) return;
+        const std::string kind = callee.value("kind", "unknown");
+        if (kind == "contact" || kind == "number") return call(who, false);  // saved: no question
+        robot().say("I can't call " + service + " myself, so I'm calling your emergency "
+                    "contacts.");
+        return call_for_help();
+      }
       if (means_me(who)) {
         robot().say("I'm listening. What can I do for you?");
         return;

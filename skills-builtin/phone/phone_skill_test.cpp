@@ -137,6 +137,26 @@ TEST_CASE("call for help: no question, the emergency contacts in order, each ste
   CHECK(h.say("emergency").back() == "Nobody answered the emergency call.");
 }
 
+TEST_CASE("call an ambulance, phone the police: the emergency contacts, unless saved as one") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  const Lines help = {"I can't call an ambulance myself, so I'm calling your emergency contacts.",
+                      "Calling Anna Schmidt for help.", "Anna Schmidt answered the emergency call.",
+                      "You're connected to Anna Schmidt."};
+  CHECK(h.say("call an ambulance") == help);
+  CHECK(h.robot().asked().empty());
+  h.say("hang up");
+  CHECK(h.say("phone the emergency services").front() ==
+        "I can't call the emergency services myself, so I'm calling your emergency contacts.");
+  h.say("hang up");
+  // The owner saved the police as a contact: that number, at once.
+  h.robot().add_contact_json(R"({"name": "Police", "phone_numbers": ["110"]})");
+  h.robot().clear();
+  h.say("call the police");
+  CHECK(dialled(h).front() == "phone_dial 110");
+  CHECK(h.robot().asked().empty());
+}
+
 TEST_CASE("a fall, a stroke, smoke or gas said as it is: the emergency call, no question") {
   marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
   contacts(h);

@@ -7,8 +7,11 @@
 // has slept in the day may not know, and "evening" alone says more than the clock).
 // "is it the weekend?" / "is today Sunday?" -> "Yes, today is Saturday, ..." or "No, ...".
 // "how many days until christmas?" -> "It's 26 days until Friday, 25 December."
+// "what time will it be in two hours?" -> "In 2 hours it will be 6:30 PM."
+// "what year is it?" -> "It's 2026."
 #include <date/tz.h>
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <marvin/skill.hpp>
@@ -30,6 +33,17 @@ class TimeSkill : public marvin::Skill {
     auto local = date::make_zoned(zone(), date::floor<std::chrono::minutes>(now)).get_local_time();
     if (request.intent == "time") {
       const std::string place = request.slots.value("place", std::string());
+      if (auto after = request.slots.find("after"); after != request.slots.end() &&
+                                                     after->is_number_integer()) {
+        // "what time will it be in two hours": the clock then, to the minute.
+        const auto then = local + std::chrono::seconds{after->get<std::int64_t>()};
+        robot().say("In " + spoken_minutes(after->get<std::int64_t>() / 60) + " it will be " +
+                    clock_text(date::floor<std::chrono::minutes>(then)) +
+                    (date::floor<date::days>(then) != date::floor<date::days>(local)
+                         ? " tomorrow."
+                         : "."));
+        return;
+      }
       if (place.empty()) {
         const std::string part = asks_part_of_day(request.utterance) ? part_of_day(local) : "";
         robot().say("It's " + (part.empty() ? "" : part + ": ") + clock_text(local) + ".");
@@ -51,6 +65,13 @@ class TimeSkill : public marvin::Skill {
         if (auto asked = local_day(request.slots["when"].value("at", std::string()))) day = *asked;
       }
       const date::year_month_day ymd{day};
+      // "what year is it?" / "what month is it?": that alone.
+      const std::vector<std::string> asked = marvin::builtin::words_in(request.utterance);
+      const bool year = std::find(asked.begin(), asked.end(), "year") != asked.end();
+      if (day == today && (year || std::find(asked.begin(), asked.end(), "month") != asked.end())) {
+        robot().say("It's " + date::format(year ? "%Y" : "%B %Y", ymd) + ".");
+        return;
+      }
       std::string which = day == today                   ? "Today is "
                           : day == today + date::days{1} ? "Tomorrow is "
                                                          : "That is ";

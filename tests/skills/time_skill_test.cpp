@@ -49,8 +49,8 @@ TEST_CASE("is it Sunday, is it the weekend: yes or no, then the date; the year a
   CHECK(harness.say("is today Sunday") == Lines{"No, today is Saturday, 21 November 2026."});
   CHECK(harness.say("is it Saturday today") == Lines{"Yes, today is Saturday, 21 November 2026."});
   CHECK(harness.say("is it a weekday") == Lines{"No, today is Saturday, 21 November 2026."});
-  CHECK(harness.say("what year is it") == Lines{"Today is Saturday, 21 November 2026."});
-  CHECK(harness.say("which month is it now") == Lines{"Today is Saturday, 21 November 2026."});
+  CHECK(harness.say("what year is it") == Lines{"It's 2026."});
+  CHECK(harness.say("which month is it now") == Lines{"It's November 2026."});
   harness.robot().set_time_zone("Pacific/Kiritimati");  // UTC+14: already Sunday
   CHECK(harness.say("is it Sunday") == Lines{"Yes, today is Sunday, 22 November 2026."});
 }
@@ -117,4 +117,16 @@ TEST_CASE("how many days until christmas; how long until an hour; today and tomo
   // In UTC+14 it is already Sunday: Christmas is a day nearer.
   harness.robot().set_time_zone("Pacific/Kiritimati");
   CHECK(harness.say("how many days till christmas") == Lines{"It's 33 days until Friday, 25 December."});
+}
+
+TEST_CASE("what time will it be in two hours: the clock then, and whether that is tomorrow") {
+  marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
+  harness.robot().set_now(kSaturdayAfternoonUtc);  // 3:05 PM in Berlin
+  harness.robot().set_time_zone("Europe/Berlin");
+  CHECK(harness.say("what time will it be in two hours") == Lines{"In 2 hours it will be 5:05 PM."});
+  CHECK(harness.say("what time is it in 20 minutes") == Lines{"In 20 minutes it will be 3:25 PM."});
+  CHECK(harness.say("what will the time be 10 hours from now") ==
+        Lines{"In 10 hours it will be 1:05 AM tomorrow."});
+  // A place is still a place, though it follows "in" as well.
+  CHECK(harness.say("what time is it in tokyo") == Lines{"In Tokyo it's 11:05 PM."});
 }

@@ -65,7 +65,8 @@ class MockRobot {
   // actions() records "guide_to <place> speed=<percent>".
   void add_guide_event(const std::string& event_json);
   // The room the robot is in: where_am_i() answers it ("": between rooms) and the smart
-  // home resolves "the light" in it. Starts as "hall".
+  // home resolves "the light" in it. Starts as "hall". With set_room_view's views, the camera
+  // then sees that room's, as after go_to.
   void set_room(std::string room);
   const std::string& room() const;
   // Adds a contact the skill can find; returns its id.
