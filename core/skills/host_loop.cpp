@@ -33,6 +33,43 @@ bool closed_question(std::string_view question) {
   return !first.empty() && !kQuestionWords.contains(first);
 }
 
+// Whether `answer` says a word of `question` ("The bedroom thermostat or the living room
+// thermostat?" "the bedroom one"): then it answers, however much it also reads as a request.
+// Short words and articles say nothing of which option was picked.
+bool shares_a_word(std::string_view answer, std::string_view question) {
+  auto words = [](std::string_view text) {
+    std::set<std::string, std::less<>> out;
+    std::string word;
+    for (std::size_t i = 0; i <= text.size(); ++i) {
+      const char c = i < text.size() ? text[i] : ' ';
+      if (std::isalnum(static_cast<unsigned char>(c))) {
+        word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      } else if (!word.empty()) {
+        if (word.size() >= 3 && word != "the" && word != "and" && word != "one" &&
+            word != "you" && word != "your") {
+          out.insert(word);
+        }
+        word.clear();
+      }
+    }
+    return out;
+  };
+  const auto asked = words(question);
+  for (const std::string& w : words(answer)) {
+    if (asked.contains(w)) return true;
+  }
+  return false;
+}
+
+// Whether the user, asked `question`, moved on with `line` instead of answering: a request
+// said word for word, or one the model is sure of that names nothing the question offered,
+// to a yes-or-no or pick-one question.
+bool moves_on(Manager::Standing standing, std::string_view line, std::string_view question) {
+  if (!closed_question(question)) return false;
+  return standing == Manager::Standing::kRequest ||
+         (standing == Manager::Standing::kLikely && !shares_a_word(line, question));
+}
+
 }  // namespace
 
 HostLoop::HostLoop(std::function<void(std::string_view)> speak) : speak_(std::move(speak)) {}
@@ -177,6 +214,23 @@ std::optional<std::string> HostLoop::ask(std::string_view question) {
       if (manager_) manager_->stop();
       return std::nullopt;
     }
+    // As route() does for a task on a worker: a call for help is no answer, and a request
+    // said to a yes-or-no or pick-one question ("The bedroom thermostat or the living room
+    // thermostat?" "Make it warmer.") leaves the task. The line is taken next.
+    const Manager::Standing standing =
+        manager_ ? manager_->standing(*line) : Manager::Standing::kNone;
+    if (standing == Manager::Standing::kUrgent || moves_on(standing, *line, question)) {
+      {
+        std::lock_guard lock(mutex_);
+        taken_next_ = std::move(*line);
+      }
+      if (standing == Manager::Standing::kUrgent) {
+        manager_->stop();
+      } else {
+        manager_->leave_task();
+      }
+      return std::nullopt;
+    }
     return line;
   }
   // On a worker: the loop delivers the answer (or "stop" interrupts).
@@ -233,7 +287,6 @@ void HostLoop::route(std::string line) {
   const Manager::Standing standing = manager_ && manager_->busy() ? manager_->standing(line)
                                                                   : Manager::Standing::kNone;
   const bool urgent = standing == Manager::Standing::kUrgent;
-  const bool request = standing == Manager::Standing::kRequest;
   std::unique_lock lock(mutex_);
   if (shutting_down_) {  // taken just before shut_down(): dropped with the rest
     holding_ = false;
@@ -266,7 +319,7 @@ void HostLoop::route(std::string line) {
     });
     // Also a request held from before the question: a task's yes or no is not given by
     // something the user said before hearing the question.
-    if (question_pending_ && !shutting_down_ && request && closed_question(question_)) {
+    if (question_pending_ && !shutting_down_ && moves_on(standing, line, question_)) {
       question_pending_ = false;
       return take_over(lock, line, true);
     }
@@ -303,7 +356,20 @@ void HostLoop::route(std::string line) {
 
 void HostLoop::run() {
   loop_thread_ = std::this_thread::get_id();
-  while (std::optional<std::string> line = pop(true)) route(std::move(*line));
+  for (;;) {
+    std::optional<std::string> line;
+    {
+      std::lock_guard lock(mutex_);
+      if (taken_next_) {  // said to a question asked on this thread, and taken as a request
+        line = std::move(taken_next_);
+        taken_next_.reset();
+        holding_ = true;
+      }
+    }
+    if (!line) line = pop(true);
+    if (!line) break;
+    route(std::move(*line));
+  }
   // End of input: a running task finishes (its questions get no answer). After
   // shut_down() it is stopped; no task starts after the loop above has ended, so one
   // that is not busy here will not be.

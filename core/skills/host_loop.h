@@ -114,6 +114,9 @@ class HostLoop : public User {
   bool holding_ = false;               // guarded by mutex_: the loop holds an utterance
   std::string question_;               // guarded by mutex_: what the pending question asks
   std::optional<std::string> answer_;  // guarded by mutex_
+  // Guarded by mutex_: said to a question a task asked on the loop thread, taken as a new
+  // request; run() routes it before the next line.
+  std::optional<std::string> taken_next_;
   std::uint64_t events_ = 0;           // guarded by mutex_: bumped by every notification
 };
 

@@ -423,9 +423,8 @@ Manager::Standing Manager::standing(std::string_view utterance) const {
   const interpret::Interpreter& interpreter = registry_.interpreter();
   if (interpreter.builtin(utterance) != interpret::Builtin::kNone) return Standing::kNone;
   const interpret::Understanding u = interpreter.understand(utterance, context());
-  if (u.outcome != interpret::Understanding::Outcome::kMatch || u.match->confidence < 1.0F) {
-    return Standing::kNone;
-  }
+  if (u.outcome != interpret::Understanding::Outcome::kMatch) return Standing::kNone;
+  if (u.match->confidence < 1.0F) return Standing::kLikely;
   const LoadedSkill* skill = registry_.find(u.match->skill_id);
   const IntentDecl* intent = skill ? skill->manifest.intent(u.match->intent) : nullptr;
   std::lock_guard lock(mutex_);

@@ -83,10 +83,11 @@ class Manager : public User {
 
   // What `utterance` is while a task runs, read once: kRequest when it is, word for word, a
   // request of some skill (a template at full confidence) and no word of the dialogue (yes,
-  // no, stop); kUrgent when that intent is marked "urgent" (a call for help) and the task
-  // running, if any, is not one, so the host loop lets it stop that task. The host loop's
-  // thread only.
-  enum class Standing { kNone, kRequest, kUrgent };
+  // no, stop); kLikely when the intent model alone is sure of one ("turn the heating up to
+  // 21"); kUrgent when a word-for-word request's intent is marked "urgent" (a call for help)
+  // and the task running, if any, is not one, so the host loop lets it stop that task. The
+  // host loop's thread only.
+  enum class Standing { kNone, kRequest, kLikely, kUrgent };
   Standing standing(std::string_view utterance) const;
   // The user answered the running task's yes-or-no question with a new request: the task is
   // stopped as by stop(), but Marvin says "OK, I'll leave that." (any thread).

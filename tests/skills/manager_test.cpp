@@ -32,6 +32,8 @@ class Greeter : public marvin::Skill {
     if (r.intent == "chat")
       robot().say("What is your favourite colour? " +
                   robot().ask("Tell me your favourite colour."));
+    if (r.intent == "drink") robot().say("Making " + robot().ask("Tea or coffee?") + ".");
+    if (r.intent == "visit") robot().say("Visiting " + robot().ask("Bob or Ann?") + ".");
   }
 };
 
@@ -91,6 +93,12 @@ const char* kGreeter = R"({"id": "greeter", "name": "Greeter", "version": "1.0.0
    {"name": "hello", "templates": ["say hello [to {name}]"],
     "slots": [{"name": "name", "type": "text", "required": true, "question": "Who should I greet?"}]},
    {"name": "chat", "templates": ["let us chat"]}]})";
+// Added only where used (with Greeter's handler): a short skill asking to pick one.
+const char* kBarista = R"({"id": "barista", "name": "Barista", "version": "1.0.0", "kind": "native",
+  "host_api": {"min": "1.0"}, "intents": [
+   {"name": "drink", "templates": ["make (a|me a) drink"],
+    "examples": ["make me a hot drink", "i would like a drink", "a cup of something please"]},
+   {"name": "visit", "templates": ["pay a visit"]}]})";
 const char* kThrower = R"({"id": "thrower", "name": "Thrower", "version": "1.0.0", "kind": "native",
   "host_api": {"min": "1.0"}, "intents": [
    {"name": "throw", "templates": ["break something"]},
@@ -597,6 +605,50 @@ TEST_CASE("a request answering a long skill's yes-or-no question leaves the task
   // The task did not take the request for its answer ("I'll leave the kitchen.").
   CHECK(s.finish() == Lines{"I tidied the hall. Shall I tidy the kitchen too?",
                             "OK, I'll leave that.", "Hello, bob!"});
+}
+
+TEST_CASE("a short skill's pick-one question: a request leaves it, an answer naming one is taken") {
+  Session s;
+  s.registry.add_native(manifest(kBarista), marvin::skill_descriptor<Greeter>("barista"));
+  s.registry.add_native(manifest(kRescuer), marvin::skill_descriptor<Rescuer>("rescuer"));
+  // Word for word a request: the question (asked on the loop thread) is left.
+  s.loop.post("make a drink");
+  REQUIRE(s.wait_said("Tea or coffee?"));
+  s.loop.post("say hello to Bob");
+  REQUIRE(s.wait_said("Hello, bob!"));
+  // An answer that names an option is an answer, whatever else it reads as.
+  s.loop.post("make me a drink");
+  s.loop.post("coffee");
+  REQUIRE(s.wait_said("Making coffee."));
+  // A call for help is no answer: the question is stopped and the call made.
+  s.loop.post("make a drink");
+  s.loop.post("call for help");
+  REQUIRE(s.wait_said("Calling for help."));
+  s.loop.post("stop");
+  CHECK(s.finish() == Lines{"Tea or coffee?", "OK, I'll leave that.", "Hello, bob!",
+                            "Tea or coffee?", "Making coffee.", "Tea or coffee?",
+                            "OK, I stopped.", "Calling for help.", "OK, I stopped."});
+}
+
+TEST_CASE("a request the model is sure of moves on from a pick-one question unless it names one") {
+  Session s;
+  s.registry.add_native(manifest(kBarista), marvin::skill_descriptor<Greeter>("barista"));
+  // Precondition: no template says it word for word, and the model is sure of the greeting.
+  REQUIRE(s.manager.standing("say a hello to Bob") == Manager::Standing::kLikely);
+  s.loop.post("make a drink");
+  REQUIRE(s.wait_said("Tea or coffee?"));
+  s.loop.post("say a hello to Bob");
+  REQUIRE(s.wait_said("OK, I'll leave that."));
+  s.loop.post("pay a visit");
+  s.loop.post("say a hello to Bob");  // names Bob, one of the two: an answer
+  REQUIRE(s.wait_said("Visiting say a hello to Bob."));
+  const Lines said = s.finish();
+  REQUIRE(said.size() == 5);
+  CHECK(said[0] == "Tea or coffee?");
+  CHECK(said[1] == "OK, I'll leave that.");
+  CHECK(said[2].rfind("Hello, ", 0) == 0);  // the greeting, however the model filled its name
+  CHECK(said[3] == "Bob or Ann?");
+  CHECK(said[4] == "Visiting say a hello to Bob.");
 }
 
 TEST_CASE("a yes-or-no question still takes yes and other words; an open one takes a request") {
