@@ -36,6 +36,12 @@ constexpr std::array kPhrases{
     Phrase{"that's enough", Builtin::kStop},
     Phrase{"forget it", Builtin::kStop},
     Phrase{"stop stop", Builtin::kStop},
+    // The robot on the move: said to make it stand where it is.
+    Phrase{"stand still", Builtin::kStop},
+    Phrase{"stay still", Builtin::kStop},
+    Phrase{"stay there", Builtin::kStop},
+    Phrase{"stay where you are", Builtin::kStop},
+    Phrase{"freeze", Builtin::kStop},
     Phrase{"yes", Builtin::kYes},
     Phrase{"yeah", Builtin::kYes},
     Phrase{"yep", Builtin::kYes},
@@ -170,7 +176,7 @@ Builtin by_head_word(std::vector<std::string> w) {
   const std::string& head = w[0];
   // "do not talk any more", "do not say anything else", "stop talking": be quiet.
   if (w.size() >= 3 && head == "do" && w[1] == "not" &&
-      in(w[2], {"talk", "speak", "say", "continue", "go"}) &&
+      in(w[2], {"talk", "speak", "say", "continue", "go", "move"}) &&
       std::all_of(w.begin() + 3, w.end(), [](const std::string& x) {
         return in(x, {"any", "more", "anymore", "further", "now", "please", "to", "me", "anything",
                       "else", "on", "with", "it", "that", "again"});
@@ -184,7 +190,9 @@ Builtin by_head_word(std::vector<std::string> w) {
                "process",  "task",  "request", "action",      "operation",  "please",
                "off",      "stop",  "cancel",  "about",       "last",       "thing",
                "whatever", "what",  "you",     "are",         "doing",      "my",
-               "command",  "then",  "there",   "nevermind",   "instead"})) {
+               "command",  "then",  "there",   "nevermind",   "instead",    "moving",
+               "walking",  "driving", "going", "looking",     "searching",  "here",
+               "robot",    "marvin"})) {
     return Builtin::kStop;
   }
   if (in(head, {"yes",       "yeah",        "yep",        "yup",        "sure",      "correct",

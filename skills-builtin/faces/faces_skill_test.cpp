@@ -121,6 +121,12 @@ TEST_CASE("what do you see; a camera that fails is said plainly") {
       R"({"faces":[{"name":"","box":[0,0,10,10]},{"name":"","box":[50,0,10,10]}],
           "objects":[{"label":"cup","box":[1,2,3,4],"score":0.9}]})");
   CHECK(h.say("what do you see") == Lines{"I see a cup and two people I don't know."});
+  // Pointing at something, or holding it up: the same look.
+  for (const char* asked : {"what's that on the table", "what is this", "what am i holding",
+                            "can you see anything", "what are those"}) {
+    CAPTURE(asked);
+    CHECK(h.intent_of(asked) == "faces/what_do_you_see");
+  }
   h.robot().set_camera_failure("camera /dev/video0: reading a frame failed (device unplugged?)");
   CHECK(h.say("who is this") ==
         Lines{"Sorry, I can't see anything right now: my camera is not working."});

@@ -122,6 +122,15 @@ TEST_CASE("dialogue answers in the person's own words: polarity, negation, typos
       {"heck yes", Builtin::kYes},        // an intensifier before the answer
       {"oh god no", Builtin::kNo},
       {"hell cancel that", Builtin::kStop},
+      // The robot on the move, told to stand (once "stop moving" was no request at all).
+      {"stop moving", Builtin::kStop},
+      {"marvin stop walking", Builtin::kStop},
+      {"stop right there", Builtin::kStop},
+      {"don't move", Builtin::kStop},
+      {"stand still", Builtin::kStop},
+      {"stay where you are", Builtin::kStop},
+      {"stop the alarm", Builtin::kNone},
+      {"do not move the chair", Builtin::kNone},
       // Questions and requests are never answers.
       {"is that true", Builtin::kNone},
       {"are you good", Builtin::kNone},
