@@ -1,6 +1,6 @@
-// Built-in skill "navigation": "go to the kitchen", "come here", "where are you", "where am I",
-// through the Robot API's going-places calls (API 1.2). "stop" is the manager's: it cancels the
-// running go_to, which stops the wheels before it returns.
+// Built-in skill "navigation": "go to the kitchen", "come here", "turn left", "turn around",
+// "where are you", "where am I", through the Robot API's going-places calls (API 1.2). "stop"
+// is the manager's: it cancels the running go_to, which stops the wheels before it returns.
 #include <cctype>
 #include <marvin/skill.hpp>
 #include <string>
@@ -33,6 +33,8 @@ class NavigationSkill : public marvin::Skill {
       where_is_user();
     } else if (request.intent == "come_here") {
       go("me", "I'm here.");
+    } else if (request.intent == "turn") {
+      turn(request.utterance);
     } else if (request.intent == "go_to") {
       const std::string place = plain(request.slots.value("place", std::string()));
       go(place, "");
@@ -42,6 +44,24 @@ class NavigationSkill : public marvin::Skill {
   }
 
  private:
+  // "turn left" (a quarter turn), "turn a little to the right" (30 degrees), "turn around"
+  // (half a turn). Said first, for someone who cannot see it.
+  void turn(const std::string& utterance) {
+    const std::string u = " " + utterance + " ";
+    auto has = [&](const char* w) { return u.find(std::string(" ") + w + " ") != std::string::npos; };
+    const bool left = has("left"), right = has("right");
+    if (left == right) {  // neither side (or both): the other way round
+      robot().say("Turning around.");
+      robot().turn(180);
+      return;
+    }
+    const bool little = has("little") || has("slightly") || has("bit");
+    const int degrees = little ? 30 : 90;
+    robot().say(std::string("Turning ") + (little ? "a little " : "") + "to the " +
+                (left ? "left." : "right."));
+    robot().turn(left ? degrees : -degrees);  // counter-clockwise positive
+  }
+
   // "where am I": the room the map places the user in ("me", as "come here" uses it).
   // Someone who cannot see, or who has just woken, may not know.
   void where_is_user() {

@@ -88,3 +88,31 @@ TEST_CASE("a person is named as the map spells them, without \"the\" (API 1.3 pl
   CHECK(said[0] == "On my way to Anna.");
   CHECK(said[1] == "I'm at Anna, in the living room.");
 }
+
+TEST_CASE("turn left, a little to the right, around: said, then turned (counter-clockwise +)") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  struct Case {
+    const char* said;
+    const char* answer;
+    const char* action;
+  };
+  const Case cases[] = {
+      {"turn left", "Turning to the left.", "turn 90"},
+      {"turn to your right", "Turning to the right.", "turn -90"},
+      {"turn a little to the left", "Turning a little to the left.", "turn 30"},
+      {"turn around", "Turning around.", "turn 180"},
+      {"face the other way", "Turning around.", "turn 180"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.said);
+    h.robot().clear();
+    CHECK(h.intent_of(c.said) == "navigation/turn");
+    CHECK(h.say(c.said) == std::vector<std::string>{c.answer});
+    std::vector<std::string> moved;  // the status light's changes left out
+    for (const std::string& a : h.robot().actions()) {
+      if (a.rfind("light", 0) != 0) moved.push_back(a);
+    }
+    INFO(moved.size());
+    CHECK(moved == std::vector<std::string>{c.action});
+  }
+}
