@@ -146,6 +146,39 @@ bool says_well(const std::string& utterance) {
   return has_word(utterance, kGood);
 }
 
+// "anna back", "my son on his mobile": whom to call, without how or when.
+std::string callee_only(std::string who) {
+  auto ends_with = [&](const std::string& tail) {
+    return who.size() > tail.size() && who.compare(who.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const char* tail : {" back", " again", " right away", " straight away"}) {
+      if (ends_with(tail)) {
+        who.erase(who.size() - std::string(tail).size());
+        changed = true;
+      }
+    }
+    // " on his mobile", " at her home number", " on the landline"
+    for (const char* on : {" on ", " at "}) {
+      const std::size_t at = who.rfind(on);
+      if (at == std::string::npos || at == 0) continue;
+      const std::vector<std::string> rest = words_in(who.substr(at + 4));
+      static const char* kHow[] = {"his",    "her",   "their", "the",      "my",     "mobile",
+                                   "phone",  "cell",  "home",  "landline", "number", "work",
+                                   "office", "house", "cellphone"};
+      const bool how = !rest.empty() && std::all_of(rest.begin(), rest.end(), [](const std::string& w) {
+        return std::any_of(std::begin(kHow), std::end(kHow), [&](const char* h) { return w == h; });
+      });
+      if (how) {
+        who.erase(at);
+        changed = true;
+      }
+    }
+  }
+  return who;
+}
+
 class PhoneSkill : public marvin::Skill {
  public:
   using marvin::Skill::Skill;
@@ -154,7 +187,8 @@ class PhoneSkill : public marvin::Skill {
     const std::string& intent = request.intent;
     if (intent == "call") {
       auto it = request.slots.find("who");
-      std::string who = it != request.slots.end() && it->is_string() ? it->get<std::string>() : "";
+      std::string who = callee_only(
+          it != request.slots.end() && it->is_string() ? lower(it->get<std::string>()) : "");
       if (means_help(who)) return call_for_help();
       if (const std::string service = emergency_service(who); !service.empty()) {
         json callee;

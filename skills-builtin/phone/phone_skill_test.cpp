@@ -67,6 +67,19 @@ TEST_CASE("ring the doctor (a phone number), phone Annie, call a number") {
               "You're connected to Doctor Brown."});
 }
 
+TEST_CASE("call Anna back, my son on his mobile: whom to call, without how or when") {
+  marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
+  contacts(h);
+  CHECK(h.say("call annie back", {"no"}) == Lines{"Call Anna Schmidt?", "OK, I won't call."});
+  CHECK(h.say("ring the doctor again", {"no"}).front() == "Call Doctor Brown on 0301 555 0100?");
+  CHECK(h.say("call my daughter on her mobile", {"no"}).front() == "Call Anna Schmidt?");
+  CHECK(h.say("call annie at her home number", {"no"}).front() == "Call Anna Schmidt?");
+  CHECK(dialled(h).empty());
+  // Two Annas: "back" does not say which.
+  CHECK(h.say("call anna back", {"Anna Berg", "no"}) ==
+        Lines{"Do you mean Anna Berg or Anna Schmidt?", "Call Anna Berg?", "OK, I won't call."});
+}
+
 TEST_CASE("busy, not answering, failed; no means no") {
   marvin::testing::SkillHarness h(PHONE_SKILL_DIR);
   contacts(h);
