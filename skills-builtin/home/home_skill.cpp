@@ -297,7 +297,22 @@ class HomeSkill : public marvin::Skill {
       robot().say("I can set a light from 0 to 100 percent.");
       return;
     }
-    std::vector<json> devices = pick(home, phrase);
+    // "set the living room to 50 percent": a level is for what dims, so the lamp, not the
+    // thermostat or the tv; the whole home only when nothing that dims fits the words.
+    std::vector<json> devices;
+    const std::string said = marvin_home_skill::tidy(phrase);
+    if (!said.empty() && said != "it" && said != "them") {
+      json dimmable = home;
+      dimmable["devices"] = json::array();
+      for (const json& d : home["devices"]) {
+        if (d.value("dimmable", false)) dimmable["devices"].push_back(d);
+      }
+      if (!marvin_home_skill::resolve(dimmable["devices"], phrase, home.value("room", ""))
+               .matches.empty()) {
+        devices = pick(dimmable, phrase);
+      }
+    }
+    if (devices.empty()) devices = pick(home, phrase);
     remember(devices);
     std::vector<json> done;
     for (const json& d : devices) {

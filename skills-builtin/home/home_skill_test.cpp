@@ -72,6 +72,11 @@ TEST_CASE("dim the living room lights to 30 percent, then make it brighter") {
   CHECK(h.say("make it brighter") == Lines{"The living room lamp is on, at 55 percent."});
   CHECK(sent(h).back() == R"(smarthome_set lamp {"brightness":55,"on":true})");
   CHECK(h.say("dim the tv to 20 percent") == Lines{"The tv can't be dimmed."});
+  // A room named with a level: what dims there (not the tv beside the lamp), no question.
+  h.robot().clear();
+  CHECK(h.say("set the living room to 50 percent") ==
+        Lines{"The living room lamp is on, at 50 percent."});
+  CHECK(h.robot().asked().empty());
 }
 
 TEST_CASE("brighter and dimmer on a light that cannot dim, or that is off") {
