@@ -164,6 +164,13 @@ TEST_CASE("where is the kitchen / the sofa: from the map, no search; the way the
   CHECK(h.say("where's the sofa", {"no"}) ==
         Lines{"The sofa is in the living room.", "Shall I show you the way?"});
   CHECK(h.robot().room() == "kitchen");  // "no": it stayed
+  // Asked for the way: the same answer, and the offer to show it.
+  h.robot().set_room("hall");
+  for (const char* asked : {"which way is the kitchen", "how do i get to the kitchen"}) {
+    CAPTURE(asked);
+    CHECK(h.say(asked, {"no"}) == Lines{"The kitchen is one of the rooms here; I'm in the hall.",
+                                        "Shall I show you the way?"});
+  }
 }
 
 TEST_CASE("a blocked room and a camera failure mid-search: clear speech, the rooms named") {

@@ -134,9 +134,15 @@ class GuidanceSkill : public marvin::Skill {
   }
 
  private:
-  void guide(const std::string& place) {
-    std::string shown = "the " + place;
+  void guide(std::string place) {
+    // "my bedroom" is the map's "bedroom"; "my chair", not on the map, is said as "your chair".
+    const bool mine = place.rfind("my ", 0) == 0;
+    std::string shown = mine ? "your " + place.substr(3) : "the " + place;
     try {
+      if (mine && !robot().place_find(place) && robot().place_find(place.substr(3))) {
+        place.erase(0, 3);
+        shown = "the " + place;
+      }
       if (auto info = robot().place_find(place)) {
         if (info->value("kind", "") == "person") shown = info->value("name", place);
       } else {

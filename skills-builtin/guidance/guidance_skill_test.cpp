@@ -64,6 +64,10 @@ TEST_CASE("guide me: there, an unknown place, a blocked way") {
   const Lines actions = h.robot().actions();
   CHECK(std::find(actions.begin(), actions.end(), "guide_to kitchen speed=50") != actions.end());
   CHECK(h.say("guide me to the garage") == Lines{"I don't know where the garage is."});
+  // "my ...": the map's place when it has one by the plain name, else said as "your ...".
+  CHECK(h.say("take me to my chair") == Lines{"I don't know where your chair is."});
+  h.robot().set_room("hall");
+  CHECK(h.say("take me to my kitchen").back() == "We're there: the kitchen.");
   h.robot().block_place("bedroom", "the bedroom door is blocked");
   h.robot().add_place("bedroom", "bedroom");
   CHECK(h.say("guide me to the bedroom").back() ==
