@@ -48,7 +48,9 @@ class NavigationSkill : public marvin::Skill {
   // (half a turn). Said first, for someone who cannot see it.
   void turn(const std::string& utterance) {
     const std::string u = " " + utterance + " ";
-    auto has = [&](const char* w) { return u.find(std::string(" ") + w + " ") != std::string::npos; };
+    auto has = [&](const char* w) {
+      return u.find(std::string(" ") + w + " ") != std::string::npos;
+    };
     const bool left = has("left"), right = has("right");
     if (left == right) {  // neither side (or both): the other way round
       robot().say("Turning around.");

@@ -149,7 +149,8 @@ bool says_well(const std::string& utterance) {
 // "anna back", "my son on his mobile": whom to call, without how or when.
 std::string callee_only(std::string who) {
   auto ends_with = [&](const std::string& tail) {
-    return who.size() > tail.size() && who.compare(who.size() - tail.size(), tail.size(), tail) == 0;
+    return who.size() > tail.size() &&
+           who.compare(who.size() - tail.size(), tail.size(), tail) == 0;
   };
   for (bool changed = true; changed;) {
     changed = false;
@@ -167,9 +168,10 @@ std::string callee_only(std::string who) {
       static const char* kHow[] = {"his",    "her",   "their", "the",      "my",     "mobile",
                                    "phone",  "cell",  "home",  "landline", "number", "work",
                                    "office", "house", "cellphone"};
-      const bool how = !rest.empty() && std::all_of(rest.begin(), rest.end(), [](const std::string& w) {
+      auto said_how = [](const std::string& w) {
         return std::any_of(std::begin(kHow), std::end(kHow), [&](const char* h) { return w == h; });
-      });
+      };
+      const bool how = !rest.empty() && std::all_of(rest.begin(), rest.end(), said_how);
       if (how) {
         who.erase(at);
         changed = true;

@@ -123,7 +123,8 @@ TEST_CASE("what time will it be in two hours: the clock then, and whether that i
   marvin::testing::SkillHarness harness(TIME_SKILL_DIR);
   harness.robot().set_now(kSaturdayAfternoonUtc);  // 3:05 PM in Berlin
   harness.robot().set_time_zone("Europe/Berlin");
-  CHECK(harness.say("what time will it be in two hours") == Lines{"In 2 hours it will be 5:05 PM."});
+  CHECK(harness.say("what time will it be in two hours") ==
+        Lines{"In 2 hours it will be 5:05 PM."});
   CHECK(harness.say("what time is it in 20 minutes") == Lines{"In 20 minutes it will be 3:25 PM."});
   CHECK(harness.say("what will the time be 10 hours from now") ==
         Lines{"In 10 hours it will be 1:05 AM tomorrow."});
