@@ -204,11 +204,7 @@ navigation::GoResult MockRobot::Impl::go_to(std::string_view target,
       room = in_room;
       home.room = in_room;
       heading = 0;
-      if (!room_views.empty()) {
-        auto view = room_views.find(in_room);
-        eyes.set_view(view != room_views.end() ? view->second
-                                               : R"({"faces": [], "objects": []})");
-      }
+      show_room_view();
       return r;
     }
   }
@@ -255,13 +251,15 @@ bool MockRobot::Impl::turn(double degrees, const navigation::WaitFn& wait) {
   // A room's view is what the camera sees facing the way the robot came in; turned away
   // from it, it sees nothing.
   heading = std::fmod(std::fmod(heading + degrees, 360.0) + 360.0, 360.0);
-  if (!room_views.empty()) {
-    auto view = room_views.find(room);
-    const bool facing = heading < 1 || heading > 359;
-    eyes.set_view(facing && view != room_views.end() ? view->second
-                                                     : R"({"faces": [], "objects": []})");
-  }
+  show_room_view();
   return !wait(std::chrono::milliseconds(0));
+}
+void MockRobot::Impl::show_room_view() {
+  if (room_views.empty()) return;
+  auto view = room_views.find(room);
+  const bool facing = heading < 1 || heading > 359;
+  eyes.set_view(facing && view != room_views.end() ? view->second
+                                                   : R"({"faces": [], "objects": []})");
 }
 std::optional<navigation::GoingPlaces::Spot> MockRobot::Impl::locate(double, double) {
   return Spot{room, ""};
@@ -427,11 +425,7 @@ void MockRobot::set_room(std::string room) {
   impl_->home.room = room;
   impl_->room = std::move(room);
   impl_->heading = 0;
-  if (!impl_->room_views.empty()) {  // the camera sees the new room, as after go_to
-    auto view = impl_->room_views.find(impl_->room);
-    impl_->eyes.set_view(view != impl_->room_views.end() ? view->second
-                                                         : R"({"faces": [], "objects": []})");
-  }
+  impl_->show_room_view();  // the camera sees the new room, as after go_to
 }
 const std::string& MockRobot::room() const { return impl_->room; }
 

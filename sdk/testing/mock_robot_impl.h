@@ -105,6 +105,9 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   FakeHome home;
   std::map<std::string, std::string> room_views;  // room -> vision_look JSON
   double heading = 0;  // degrees turned since arriving in the room
+  // With set_room_view's views: the camera sees `room`'s view when facing the way it came
+  // in (heading 0), else nothing. Without them the camera is left as it is.
+  void show_room_view();
   skills::InMemorySightingLog sightings{[this] { return now_ms; }};
   std::unique_ptr<skills::Guard> guard;
   std::vector<skills::HostServices::LoggedEvent> events;

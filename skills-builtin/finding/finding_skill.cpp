@@ -256,6 +256,20 @@ class FindingSkill : public marvin::Skill {
     std::string camera_error;
   };
 
+  // Goes into `room` for a search; one it cannot get to (blocked, not on the map) is added
+  // to `unreachable` and false returned. "Stop" ends the search here.
+  bool enter(const std::string& room, std::vector<std::string>& unreachable) {
+    robot().check_cancelled();
+    try {
+      robot().go_to(room);
+      return true;
+    } catch (const marvin::Error& e) {
+      if (e.status() != MARVIN_ERR_UNAVAILABLE && e.status() != MARVIN_ERR_NOT_FOUND) throw;
+      unreachable.push_back(room);
+      return false;
+    }
+  }
+
   // Visits rooms (`first`, then the planned order) and looks around in each until `w` is
   // seen. A room it cannot reach is skipped and named; a camera failure ends the search.
   Found search(const Wanted& w, const std::string& first) {
@@ -266,14 +280,7 @@ class FindingSkill : public marvin::Skill {
       rooms.insert(rooms.begin(), first);
     }
     for (const std::string& room : rooms) {
-      robot().check_cancelled();
-      try {
-        robot().go_to(room);
-      } catch (const marvin::Error& e) {
-        if (e.status() != MARVIN_ERR_UNAVAILABLE && e.status() != MARVIN_ERR_NOT_FOUND) throw;
-        f.unreachable.push_back(room);
-        continue;
-      }
+      if (!enter(room, f.unreachable)) continue;
       json seen;
       try {
         seen = robot().look_around();
@@ -400,7 +407,7 @@ class FindingSkill : public marvin::Skill {
   void anyone_in(const std::string& said_room) {
     const std::string said = strip_prefix(strip_prefix(said_room, "in "), "at ");
     if (said.empty() || means_whole_home(said)) return anyone_home();
-    if (said == "here" || said == "in here" || said == "the room" || said == "this room") {
+    if (said == "here" || said == "the room" || said == "this room") {  // "in here" too
       const std::optional<std::string> here = robot().where_am_i();
       if (!here) return anyone_home();
       const std::vector<std::string> who = people_seen(robot().look_around());
@@ -450,14 +457,7 @@ class FindingSkill : public marvin::Skill {
     robot().say("I'll have a look around the house.");
     std::vector<std::string> found, looked, unreachable;
     for (const std::string& room : robot().rooms_to_search()) {
-      robot().check_cancelled();
-      try {
-        robot().go_to(room);
-      } catch (const marvin::Error& e) {
-        if (e.status() != MARVIN_ERR_UNAVAILABLE && e.status() != MARVIN_ERR_NOT_FOUND) throw;
-        unreachable.push_back("the " + room);
-        continue;
-      }
+      if (!enter(room, unreachable)) continue;
       looked.push_back("the " + room);
       const std::vector<std::string> who = people_seen(robot().look_around());
       if (!who.empty()) {
@@ -473,6 +473,7 @@ class FindingSkill : public marvin::Skill {
       sentence = "I couldn't look: I couldn't get into any room.";
     }
     if (!unreachable.empty() && !looked.empty()) {
+      for (std::string& room : unreachable) room = "the " + room;
       sentence += " I couldn't get into " + join_and(unreachable) + ".";
     }
     robot().say(sentence);

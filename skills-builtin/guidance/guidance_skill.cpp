@@ -139,16 +139,19 @@ class GuidanceSkill : public marvin::Skill {
     const bool mine = place.rfind("my ", 0) == 0;
     std::string shown = mine ? "your " + place.substr(3) : "the " + place;
     try {
-      if (mine && !robot().place_find(place) && robot().place_find(place.substr(3))) {
-        place.erase(0, 3);
-        shown = "the " + place;
+      std::optional<json> info = robot().place_find(place);
+      if (!info && mine) {
+        info = robot().place_find(place.substr(3));
+        if (info) {
+          place.erase(0, 3);
+          shown = "the " + place;
+        }
       }
-      if (auto info = robot().place_find(place)) {
-        if (info->value("kind", "") == "person") shown = info->value("name", place);
-      } else {
+      if (!info) {
         robot().say("I don't know where " + shown + " is.");
         return;
       }
+      if (info->value("kind", "") == "person") shown = info->value("name", place);
     } catch (const marvin::Error& e) {
       if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
     }

@@ -100,6 +100,7 @@ TEST_CASE("is the way clear: a step down is told from the floor, nearer than a w
   h.robot().set_scan(scan);
   CHECK(h.say("is the way clear") == Lines{"No: a step down, 90 centimetres ahead."});
   CHECK(h.say("what's in front of me") == Lines{"A step down, 90 centimetres ahead."});
+  CHECK(h.intent_of("is there something in front of me") == "guidance/in_front");
   scan = floor_sweep(9, now);  // the floor everywhere: a clear way, not "something low"
   for (const auto& p : sweep(9, 0, now)) scan.push_back(p);
   h.robot().set_scan(scan);

@@ -164,7 +164,7 @@ std::string callee_only(std::string who) {
     for (const char* on : {" on ", " at "}) {
       const std::size_t at = who.rfind(on);
       if (at == std::string::npos || at == 0) continue;
-      const std::vector<std::string> rest = words_in(who.substr(at + 4));
+      const std::vector<std::string> rest = words_in(who.substr(at + std::string(on).size()));
       static const char* kHow[] = {"his",    "her",   "their", "the",      "my",     "mobile",
                                    "phone",  "cell",  "home",  "landline", "number", "work",
                                    "office", "house", "cellphone"};
