@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "interpret/beyond_reach.h"
 #include "interpret/eval_labels.h"
 #include "app/host.h"
 #include "app/installed_skills.h"
@@ -160,6 +161,7 @@ void explain(const NluOptions& o) {
       break;
     case interpret::Understanding::Outcome::kNone:
       write_line("decision: decline (" + u.reason + ")");
+      if (auto why = interpret::beyond_reach(o.text)) write_line("reply: " + *why);
       break;
   }
 }

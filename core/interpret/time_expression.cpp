@@ -324,7 +324,7 @@ class TimeReader {
     } else {
       (void)(accept("at") || accept("with") || accept("around") || accept("by"));
     }
-    (void)(accept("my") || accept("the") || accept("your"));
+    const bool article = accept("my") || accept("the") || accept("your");
     int hour = -1;
     bool bed = false;
     if (accept("breakfast") || accept("breakfasttime")) {
@@ -336,7 +336,9 @@ class TimeReader {
     } else if (accept("dinner") || accept("supper") || accept("dinnertime") ||
                accept("suppertime")) {
       hour = 18;
-    } else if (accept("bedtime") || accept("bed") || accept_seq({"going", "to", "bed"})) {
+    } else if (accept("bedtime") || (!article && accept("bed")) ||
+               accept_seq({"going", "to", "bed"})) {
+      // "the bed", "my bed" is the furniture ("go to the bed"); "before bed" is the time.
       hour = 21;
       bed = true;
     }

@@ -79,6 +79,13 @@ class GoingPlaces {
     (void)name;
     return std::nullopt;
   }
+  // Metres along the path the robot would drive to `name` from where it is now ("how far is
+  // the kitchen"); nullopt when the map does not know the name, no path leads there, or the
+  // robot is driving (its planner is busy).
+  virtual std::optional<double> path_length_to(std::string_view name) {
+    (void)name;
+    return std::nullopt;
+  }
 
   // --- guiding (API 1.4) ---------------------------------------------------------------
   // One thing worth telling a person being led, between two control steps:

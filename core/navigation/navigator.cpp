@@ -272,6 +272,19 @@ std::optional<GoingPlaces::PlaceInfo> Navigator::find_place(std::string_view nam
   return PlaceInfo{t->name, kKinds[static_cast<int>(t->kind)], t->room};
 }
 
+std::optional<double> Navigator::path_length_to(std::string_view name) {
+  std::optional<Target> target = map_.find(name);
+  if (!target) return std::nullopt;
+  // Not while driving: go() holds the lock for the whole drive and owns the grid.
+  std::unique_lock lock(run_mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return std::nullopt;
+  const Vec2 from = pose_().position();
+  std::optional<std::vector<Vec2>> path = planner_.plan(grid_, from, target->at);
+  if (!path) return std::nullopt;
+  if (target->kind == Target::Kind::kPerson) *path = stop_short(*path, target->at, 0.7);
+  return length_left(*path, 1, from);
+}
+
 // At a screen: the bearing within the box's extent as the robot sees it (corners, 3 degrees
 // more each side for the pose's error), and the distance within the box's nearest and
 // farthest points, with room for the error of a distance told from a face's size (a face on

@@ -70,6 +70,7 @@ class Navigator : public GoingPlaces {
   std::vector<std::string> rooms_to_search() override;
   std::optional<std::string> screen_at(double bearing_deg, double distance_m) override;
   std::optional<PlaceInfo> find_place(std::string_view name) override;
+  std::optional<double> path_length_to(std::string_view name) override;
 
   const FloorMap& map() const { return map_; }
   // Where the robot is now (its pose source). Any thread.

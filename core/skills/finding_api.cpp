@@ -120,8 +120,11 @@ marvin_status api_place_find(marvin_host* host, const char* name, marvin_text_ou
       return fail(c, MARVIN_ERR_NOT_FOUND,
                   std::string("the map has no room, place or person called '") + name + "'");
     }
-    return write_text(
-        out, json{{"name", place->name}, {"kind", place->kind}, {"room", place->room}}.dump());
+    json found{{"name", place->name}, {"kind", place->kind}, {"room", place->room}};
+    if (auto metres = c.services().going_places->path_length_to(name)) {
+      found["distance_m"] = std::round(*metres * 10) / 10;  // a decimetre is plenty to say
+    }
+    return write_text(out, found.dump());
   });
 }
 

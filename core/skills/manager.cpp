@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "common/log.h"
+#include "interpret/beyond_reach.h"
 
 namespace marvin::skills {
 namespace {
@@ -288,7 +289,8 @@ void Manager::handle(std::string_view utterance) {
         "no match for \"" + std::string(utterance.substr(0, 200)) + "\"" +
             (utterance.size() > 200 ? " (" + std::to_string(utterance.size()) + " bytes)" : "") +
             " (" + understood.reason + ")");
-    say(no_match_sentence());
+    std::optional<std::string> why = interpret::beyond_reach(utterance);
+    say(why ? *why : no_match_sentence());
     return;
   }
   LoadedSkill* skill = registry_.find(match->skill_id);

@@ -284,6 +284,12 @@ std::optional<navigation::GoingPlaces::PlaceInfo> MockRobot::Impl::find_place(
   return std::nullopt;
 }
 
+std::optional<double> MockRobot::Impl::path_length_to(std::string_view name) {
+  auto it = path_lengths.find(place_key(name));
+  if (it == path_lengths.end()) return std::nullopt;
+  return it->second;
+}
+
 void MockRobot::Impl::say(std::string_view text) { said.emplace_back(text); }
 
 std::optional<std::string> MockRobot::Impl::ask(std::string_view question) {
@@ -405,6 +411,9 @@ void MockRobot::set_scan(std::vector<marvin_scan_point> points) { impl_->scan = 
 void MockRobot::cancel() { impl_->context->cancel(); }
 void MockRobot::add_place(std::string name, std::string room) {
   impl_->places.emplace_back(std::move(name), std::move(room));
+}
+void MockRobot::set_path_length(const std::string& place, double metres) {
+  impl_->path_lengths[place_key(place)] = metres;
 }
 void MockRobot::add_guide_event(const std::string& event_json) {
   const nlohmann::json j = nlohmann::json::parse(event_json);

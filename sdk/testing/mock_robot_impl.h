@@ -72,6 +72,7 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   std::optional<Spot> locate(double bearing_deg, double distance_m) override;
   std::vector<std::string> rooms_to_search() override;
   std::optional<PlaceInfo> find_place(std::string_view name) override;
+  std::optional<double> path_length_to(std::string_view name) override;
 
   // skills::User
   void say(std::string_view text) override;
@@ -98,6 +99,7 @@ struct MockRobot::Impl : devices::Body, skills::User, navigation::GoingPlaces {
   std::vector<marvin_scan_point> scan;
   std::optional<std::int64_t> last_fired;
   std::vector<std::pair<std::string, std::string>> places;   // name, room
+  std::map<std::string, double> path_lengths;                // place_key -> metres
   std::vector<std::pair<std::string, std::string>> blocked;  // name, reason
   std::vector<GuideEvent> guide_events;                      // told on the next guide_to
   std::vector<bool> guide_stops;  // per guide event: the user says "stop" as it is told

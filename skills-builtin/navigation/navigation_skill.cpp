@@ -1,7 +1,8 @@
 // Built-in skill "navigation": "go to the kitchen", "come here", "turn left", "turn around",
-// "where are you", "where am I", through the Robot API's going-places calls (API 1.2). "stop"
+// "where are you", "where am I", "how far is the kitchen", through the Robot API's going-places calls (API 1.2). "stop"
 // is the manager's: it cancels the running go_to, which stops the wheels before it returns.
 #include <cctype>
+#include <cmath>
 #include <marvin/skill.hpp>
 #include <string>
 
@@ -35,6 +36,8 @@ class NavigationSkill : public marvin::Skill {
       go("me", "I'm here.");
     } else if (request.intent == "turn") {
       turn(request.utterance);
+    } else if (request.intent == "how_far") {
+      how_far(plain(request.slots.value("place", std::string())));
     } else if (request.intent == "go_to") {
       const std::string place = plain(request.slots.value("place", std::string()));
       go(place, "");
@@ -76,6 +79,37 @@ class NavigationSkill : public marvin::Skill {
     const std::string room = me ? me->value("room", "") : "";
     robot().say(room.empty() ? "Sorry, I don't know where you are."
                              : "You're in the " + room + ".");
+  }
+
+  // "how far is the kitchen": metres along the path the robot would drive from where it
+  // stands (the person asking is usually beside it), rounded as people say them.
+  void how_far(const std::string& place) {
+    std::optional<nlohmann::json> info;
+    try {
+      info = robot().place_find(place);
+    } catch (const marvin::Error&) {
+      // An older host or no map: the same as not knowing how far.
+      return robot().say("Sorry, I can't tell how far the " + place + " is from here.");
+    }
+    if (!info) return robot().say("Sorry, I don't know where the " + place + " is.");
+    // A person is where the map last placed them, which may not be where they are now.
+    const bool person = info->value("kind", "") == "person";
+    const std::string shown = person ? info->value("name", place) : "the " + place;
+    std::string said = person ? "The last place I saw " + shown : shown;
+    said[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(said[0])));
+    std::optional<std::string> here = robot().where_am_i();
+    if (info->value("kind", "") == "room" && here && plain(*here) == plain(info->value("name", ""))) {
+      return robot().say("I'm in the " + *here + " now.");
+    }
+    if (!info->contains("distance_m")) {
+      return robot().say("Sorry, I can't tell how far " + shown + " is from here.");
+    }
+    const double metres = info->at("distance_m").get<double>();
+    const long whole = std::lround(metres);
+    if (metres < 1.0) return robot().say(said + " is less than a metre away.");
+    robot().say(said + " is about " +
+                (whole == 1 ? std::string("a metre") : std::to_string(whole) + " metres") +
+                " away.");
   }
 
   // How to say a place: "you", "Anna" (a person: as the map spells the name, no "the"),

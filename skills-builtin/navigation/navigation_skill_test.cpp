@@ -36,6 +36,42 @@ TEST_CASE("a place in a room, come here, and places the robot does not know") {
   CHECK(h.say("go to my sofa").front() == "On my way to the sofa.");
 }
 
+TEST_CASE("how far: metres along the robot's path, rounded as people say them") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  h.robot().add_place("kitchen", "kitchen");
+  h.robot().add_place("the bed", "bedroom");
+  h.robot().add_place("the front door", "hall");
+  h.robot().add_place("Anna", "living room");
+  h.robot().add_place("hall", "hall");
+  h.robot().add_place("bathroom", "bathroom");
+  h.robot().set_path_length("kitchen", 3.3);
+  h.robot().set_path_length("the bed", 6.6);
+  h.robot().set_path_length("the front door", 0.6);
+  h.robot().set_path_length("Anna", 1.2);
+  h.robot().set_room("hall");
+  CHECK(h.intent_of("how far is the kitchen") == "navigation/how_far");
+  CHECK(h.say("how far is the kitchen") ==
+        std::vector<std::string>{"The kitchen is about 3 metres away."});
+  // "the bed" is the furniture here, not bedtime.
+  CHECK(h.say("is the bed far from here") ==
+        std::vector<std::string>{"The bed is about 7 metres away."});
+  CHECK(h.say("how far away is the front door") ==
+        std::vector<std::string>{"The front door is less than a metre away."});
+  CHECK(h.say("how far is Anna") ==
+        std::vector<std::string>{"The last place I saw Anna is about a metre away."});
+  CHECK(h.say("how far is the hall") == std::vector<std::string>{"I'm in the hall now."});
+  // On the map, but no path length (no way there now, or the robot is driving).
+  CHECK(h.say("how far is the bathroom") ==
+        std::vector<std::string>{"Sorry, I can't tell how far the bathroom is from here."});
+  CHECK(h.say("how far is the garage") ==
+        std::vector<std::string>{"Sorry, I don't know where the garage is."});
+  // Asking moves nothing.
+  CHECK(h.robot().room() == "hall");
+  const auto& actions = h.robot().actions();
+  CHECK(std::none_of(actions.begin(), actions.end(),
+                     [](const std::string& a) { return a.rfind("go_to", 0) == 0; }));
+}
+
 TEST_CASE("come here without knowing where the user is") {
   SkillHarness h(NAVIGATION_SKILL_DIR);
   CHECK(h.say("come here").back() == "Sorry, I don't know where you are.");

@@ -86,6 +86,19 @@ std::string second_person(const std::string& text) {
   return out;
 }
 
+// "my dentist appointment", "the next bus" -> "your dentist appointment", "your next bus":
+// what the user asked about, said back as theirs (never "your the next bus").
+std::string yours(const std::string& task) {
+  std::string what = lower(task);
+  for (const char* lead : {"the ", "my ", "your ", "our "}) {
+    if (what.rfind(lead, 0) == 0) {
+      what = what.substr(std::string(lead).size());
+      break;
+    }
+  }
+  return "your " + second_person(what);
+}
+
 // "0171 5550101" -> "0 1 7 1, 5 5 5 0 1 0 1": digits one by one, groups kept, for speech.
 std::string spoken_number(const std::string& number) {
   std::string out;
@@ -655,7 +668,7 @@ class ScheduleSkill : public marvin::Skill {
     if (hits.empty()) {
       robot().say(wanted.empty()
                       ? "You have nothing on your schedule."
-                      : "I don't see your " + second_person(task) + " on your schedule.");
+                      : "I don't see " + yours(task) + " on your schedule.");
       return;
     }
     const std::string title = capital(second_person(hits[0].value("title", "")));
@@ -694,12 +707,8 @@ class ScheduleSkill : public marvin::Skill {
         wanted_words(task, {"appointment", "reminder", "event", "it", "that", "time", "date"});
     const std::vector<json> hits = matching(wanted, true);
     if (hits.empty()) {
-      std::string what = lower(task);
-      for (const char* lead : {"the ", "my ", "your "}) {
-        if (what.rfind(lead, 0) == 0) what = what.substr(std::string(lead).size());
-      }
       robot().say(wanted.empty() ? "You have nothing on your schedule to move."
-                                 : "I don't see your " + what + " on your schedule.");
+                                 : "I don't see " + yours(task) + " on your schedule.");
       return;
     }
     const json& old = hits.front();  // the soonest

@@ -221,6 +221,8 @@ TEST_CASE("when is my dentist appointment; my next appointment; the calendar sai
   CHECK(h.say("when is my next appointment") == Lines{"Take your pills: every day at 9 AM."});
   CHECK(h.say("what time is my hair appointment") ==
         Lines{"I don't see your hair appointment on your schedule."});
+  // Said back as theirs, whatever article they used (not "your the next bus").
+  CHECK(h.say("when is the next bus") == Lines{"I don't see your next bus on your schedule."});
   CHECK(reminders(h).size() == 2);
 }
 

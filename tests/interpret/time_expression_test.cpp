@@ -327,7 +327,9 @@ TEST_CASE("time expressions: not times") {
     CHECK(when(text, context).is_null());
   }
   // Parts of the day: one at most, one day at most, never with a week or an interval.
+  // "my bed" is the furniture, not bedtime ("how far is my bed").
   for (const char* text : {"after bed", "after lunch after dinner", "with", "before the",
+                           "my bed", "before my bed",
                            "morning morning", "this evening tomorrow", "tonight in the morning",
                            "next week in the morning", "every 2 hours in the evening"}) {
     CAPTURE(text);

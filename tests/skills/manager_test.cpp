@@ -347,12 +347,27 @@ TEST_CASE("a skill calling what it may not: apology, nothing moved, the reason i
 
 TEST_CASE("no match gets a helpful sentence, never a guess; repeat says it again") {
   Dialogue d;
-  Lines said = d.turn("sing me a song");
+  Lines said = d.turn("paint me a picture");
   CHECK(said == Lines{"Sorry, I don't know how to help with that. You can ask me, for example: "
                       "\"let us chat\"."});
   CHECK(d.turn("repeat") == said);
   CHECK(d.body.motions().empty());
   CHECK(d.turn("yes") == Lines{"I wasn't asking anything. What can I do for you?"});
+}
+
+TEST_CASE("a request beyond what Marvin can do is declined with the reason, and runs nothing") {
+  Dialogue d;
+  CHECK(d.turn("what's the weather like tomorrow") ==
+        Lines{"Sorry, I can't tell you the weather: I work without the internet."});
+  // Close to what it can do: says what it can do instead.
+  CHECK(d.turn("text Anna that I'm running late") ==
+        Lines{"Sorry, I can't send or read messages. I can call someone for you: say \"call\" "
+              "and their name."});
+  CHECK(d.turn("repeat") ==
+        Lines{"Sorry, I can't send or read messages. I can call someone for you: say \"call\" "
+              "and their name."});
+  CHECK(d.body.motions().empty());
+  CHECK(d.data.list_contacts().size() == 1);  // only Anna, as before
 }
 
 TEST_CASE("speak slower / louder: the hook gets the new style, within bounds; typed, no voice") {
@@ -381,7 +396,7 @@ TEST_CASE("each refusal offers the next skill's example, round and round") {
   const std::string sorry = "Sorry, I don't know how to help with that. You can ask me, for example: ";
   Lines offered;
   for (int i = 0; i < 12; ++i) {
-    const Lines said = d.turn("sing me a song");
+    const Lines said = d.turn("paint me a picture");
     REQUIRE(said.size() == 1);
     REQUIRE(said[0].rfind(sorry, 0) == 0);
     offered.push_back(said[0].substr(sorry.size()));

@@ -83,7 +83,7 @@ TEST_CASE("a piped session: each answer in order, lights shown, clean exit at en
                         "What day is it?\n"
                         "roll some dice\n"
                         "two\n"
-                        "sing me a song\n"
+                        "paint me a picture\n"
                         "stop\n");
   CHECK(r.exit_code == 0);
   CHECK(r.errors == "");
@@ -104,7 +104,7 @@ TEST_CASE("a piped session: each answer in order, lights shown, clean exit at en
       "[light: executing (yellow)]",
       "(the roll)",
       "[light: awaiting (red)]",
-      "You: sing me a song",
+      "You: paint me a picture",
       "(no match)",
       "You: stop",
       "Marvin: OK.",

@@ -99,6 +99,26 @@ TEST_CASE("places and people: the bedside table, Anna on the sofa") {
   rig.runner.inspect([](const marvin::sim::Simulator& s) { CHECK(s.collisions() == 0); });
 }
 
+TEST_CASE("how far: the length of the path the robot would drive, without driving it") {
+  Rig rig(home());
+  // From the hall (5, 1.5) through the kitchen door (6, 2) to the kitchen's spot (8, 3):
+  // longer than the straight line (3.35 m), shorter than a detour through another room.
+  const std::optional<double> kitchen = rig.nav.path_length_to("the kitchen");
+  REQUIRE(kitchen.has_value());
+  CHECK(*kitchen > 3.35);
+  CHECK(*kitchen < 4.5);
+  CHECK_FALSE(rig.nav.path_length_to("the garage").has_value());
+  CHECK(rig.runner.now_ms() == 0);  // asking moved nothing
+  REQUIRE(rig.go("the kitchen").arrived());
+  CHECK(*rig.nav.path_length_to("kitchen") < 0.5);
+  // A box in the kitchen door: no way into the kitchen, so no length.
+  auto w = home();
+  w.map.furniture.push_back({"box", {{5.7, 1.4}, {6.3, 2.6}, 1.0}});
+  Rig shut(std::move(w));
+  CHECK_FALSE(shut.nav.path_length_to("kitchen").has_value());
+  CHECK(shut.nav.path_length_to("bedroom").has_value());
+}
+
 TEST_CASE("an unknown place is refused without moving") {
   Rig rig(home());
   GoResult r = rig.go("the garage");

@@ -278,7 +278,10 @@ typedef struct marvin_robot_api {
    * of names (the room it is in first). Permission "sensors". */
   marvin_status (*rooms_to_search)(marvin_host* host, marvin_text_out* rooms_json);
   /* What `name` is on the robot's map: {"name": "Anna", "kind": "room" | "place" |
-   * "person", "room": "living room"}. MARVIN_ERR_NOT_FOUND if the map has no such name.
+   * "person", "room": "living room", "distance_m": 6.2}. "distance_m" (added in API 1.6,
+   * optional: treat it as unknown when absent) is how far the robot would drive to get
+   * there from where it is now, along its path; absent while the robot is driving or when
+   * no path leads there. MARVIN_ERR_NOT_FOUND if the map has no such name.
    * Permission "sensors". */
   marvin_status (*place_find)(marvin_host* host, const char* name, marvin_text_out* place_json);
   /* Turns in place by `degrees` (-360 to 360, counter-clockwise positive) and returns when

@@ -330,8 +330,8 @@ class Robot {
     return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }))
         .get<std::vector<std::string>>();
   }
-  // {"name", "kind": "room" | "place" | "person", "room"}, or nullopt for a name the map
-  // does not know.
+  // {"name", "kind": "room" | "place" | "person", "room"} and, when the robot can tell,
+  // "distance_m" (how far it would drive there); nullopt for a name the map does not know.
   std::optional<nlohmann::json> place_find(std::string_view name) {
     std::string n = str(name);
     auto call = fn(&marvin_robot_api::place_find, "place_find");

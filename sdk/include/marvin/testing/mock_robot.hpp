@@ -57,6 +57,9 @@ class MockRobot {
   // go_to give up with `reason` (MARVIN_ERR_UNAVAILABLE); any other place is not found.
   // actions() records "go_to <place>" and "stop".
   void add_place(std::string name, std::string room);
+  // How far the robot would drive to a place added above: place_find() then gives it as
+  // "distance_m" (without this, "distance_m" is absent, as on a robot without a path).
+  void set_path_length(const std::string& place, double metres);
   void block_place(std::string name, std::string reason);
   // Guiding (API 1.4): the next guide_to to a known place tells these events, in order,
   // before it arrives (JSON as marvin_guide_event_fn gets it: {"event": "obstacle",
