@@ -77,6 +77,10 @@ TEST_CASE("remember my face: asks the name (said any way), then who am I is answ
   CHECK(h.say("do you know my name") == Lines{"You're Tom."});
   CHECK(h.say("do you recognise me") == Lines{"You're Tom."});
   CHECK(h.say("who is this") == Lines{"That's Tom."});
+  // Nobody in view: asked about themselves, the speaker is told where to stand.
+  h.robot().set_camera_view(R"({"faces":[]})");
+  CHECK(h.say("who am I") == Lines{"I can't see you. Please come and stand in front of me."});
+  CHECK(h.say("who is this") == Lines{"I don't see anyone."});
 }
 
 TEST_CASE("who is Anna: answered from the contact book, not the camera") {

@@ -1,5 +1,5 @@
 // Built-in skill "navigation": "go to the kitchen", "come here", "turn left", "turn around",
-// "where are you", "where am I", "how far is the kitchen", through the Robot API's going-places calls (API 1.2). "stop"
+// "where are you", "where am I", "how far is the kitchen", "go to sleep", through the Robot API's going-places calls (API 1.2). "stop"
 // is the manager's: it cancels the running go_to, which stops the wheels before it returns.
 #include <cctype>
 #include <cmath>
@@ -36,6 +36,8 @@ class NavigationSkill : public marvin::Skill {
       go("me", "I'm here.");
     } else if (request.intent == "turn") {
       turn(request.utterance);
+    } else if (request.intent == "rest") {
+      rest();
     } else if (request.intent == "how_far") {
       how_far(plain(request.slots.value("place", std::string())));
     } else if (request.intent == "go_to") {
@@ -79,6 +81,21 @@ class NavigationSkill : public marvin::Skill {
     const std::string room = me ? me->value("room", "") : "";
     robot().say(room.empty() ? "Sorry, I don't know where you are."
                              : "You're in the " + room + ".");
+  }
+
+  // "go to sleep", "go back to your charger", "you can go now": back to the charger when the
+  // map has one (a place called "charger"), out of the way and charging. Marvin still
+  // listens for its name, and says so: "sleep" must not sound like "deaf".
+  void rest() {
+    const char* wake = "Say \"Marvin\" when you need me.";
+    std::optional<nlohmann::json> charger;
+    try {
+      charger = robot().place_find("charger");
+    } catch (const marvin::Error&) {
+      // An older host or no map: rest where it is.
+    }
+    if (!charger) return robot().say(std::string("OK. ") + wake);
+    go("charger", std::string("I'm at my charger. ") + wake);
   }
 
   // "how far is the kitchen": metres along the path the robot would drive from where it

@@ -30,7 +30,7 @@ TEST_CASE("a place in a room, come here, and places the robot does not know") {
   // An unknown place: said at once, and the robot does not set off.
   CHECK(h.say("go to the garage") ==
         std::vector<std::string>{"Sorry, I don't know where the garage is."});
-  CHECK(h.say("go back to your charger") ==
+  CHECK(h.say("go to the charger") ==
         std::vector<std::string>{"Sorry, I don't know where the charger is."});
   CHECK(h.robot().room() == "living room");
   CHECK(h.say("go to my sofa").front() == "On my way to the sofa.");
@@ -70,6 +70,28 @@ TEST_CASE("how far: metres along the robot's path, rounded as people say them") 
   const auto& actions = h.robot().actions();
   CHECK(std::none_of(actions.begin(), actions.end(),
                      [](const std::string& a) { return a.rfind("go_to", 0) == 0; }));
+}
+
+TEST_CASE("go to sleep: back to the charger when the map has one, else rest where it is") {
+  SkillHarness h(NAVIGATION_SKILL_DIR);
+  const std::vector<std::string> at_rest = {"OK. Say \"Marvin\" when you need me."};
+  h.robot().add_place("kitchen", "kitchen");
+  h.robot().set_room("kitchen");
+  CHECK(h.say("go to sleep") == at_rest);
+  CHECK(h.robot().room() == "kitchen");
+  h.robot().add_place("the charger", "hall");
+  for (const char* said : {"go to sleep", "go back to your charger", "you can go now",
+                           "go to bed", "go home"}) {
+    CAPTURE(said);
+    h.robot().set_room("kitchen");
+    CHECK(h.intent_of(said) == "navigation/rest");
+    CHECK(h.say(said) ==
+          std::vector<std::string>{"On my way to the charger.",
+                                   "I'm at my charger. Say \"Marvin\" when you need me."});
+    CHECK(h.robot().room() == "hall");
+  }
+  // "the bed" is a place to go to, not bedtime.
+  CHECK(h.intent_of("go to the bed") == "navigation/go_to");
 }
 
 TEST_CASE("come here without knowing where the user is") {
