@@ -698,7 +698,111 @@ Match Interpreter::Impl::to_match(const CompiledIntent& intent,
   return match;
 }
 
+namespace {
+
+// Whether `lead` (the words before a request) may simply be dropped: a remark or a reason
+// ("I'm going to bed", "it's getting late", "oh dear") and not something that changes what
+// the request means: a negation ("I don't want you to"), a question about it ("how do I",
+// "should I"), a condition or a time ("if", "when", "after dinner"), or someone else's words
+// ("ask Anna to", "she said").
+bool droppable_lead_in(std::span<const std::string> lead) {
+  // Negation, condition, time, question and reported words anywhere in the lead-in.
+  static const std::set<std::string, std::less<>> kNever = {
+      "not", "never", "dont",                                                   // negation
+      "if", "unless", "when", "whenever", "once", "before", "after", "until",   // condition
+      "while", "because",
+      "later", "tomorrow", "tonight", "minute", "minutes", "hour", "hours",     // time
+      "o'clock", "pm", "noon", "midnight", "every", "morning", "afternoon", "evening",
+      "monday", "tuesday", "wednesday", "thursday", "friday", "saturday", "sunday",
+      "how", "whether", "why", "what",                                          // question
+      "tell", "ask", "asked", "said", "says", "told", "remind", "reminder",     // reported
+      "remember"};
+  // A question starts so ("do you think I should ...", "can I ...").
+  static const std::set<std::string, std::less<>> kNotFirst = {
+      "do",    "does", "did",   "is",   "are",   "was",   "were",  "should", "shall", "can",
+      "could", "would", "will", "may",  "might", "must",  "where", "who",    "which", "have",
+      "has",   "had"};
+  // A lead-in is a whole clause: it does not end on a subject, an article or a conjunction
+  // ("then I | turn off ...", "so you | ...").
+  static const std::set<std::string, std::less<>> kNotLast = {
+      "i", "we", "you", "he", "she", "they", "and", "or", "the", "a", "my", "please", "just"};
+  if (lead.size() < 2) return false;
+  if (kNotFirst.count(lead.front()) || kNotLast.count(lead.back())) return false;
+  // A number is a time or an amount the request would need ("in 5 minutes", "at 8").
+  return std::none_of(lead.begin(), lead.end(), [](const std::string& w) {
+    return kNever.count(w) > 0 || std::isdigit(static_cast<unsigned char>(w[0]));
+  });
+}
+
+}  // namespace
+
 Understanding Interpreter::understand(std::string_view utterance, const Context& context) const {
+  Understanding whole = understand_whole(utterance, context);
+  const std::vector<std::string>& r = whole.request;
+  const bool negated = (r.size() >= 3 && r[0] == "do" && r[1] == "not") ||
+                       (r.size() >= 2 && (r[0] == "never" || r[0] == "dont"));
+  const bool said_word_for_word = whole.reason == "template matches word for word" ||
+                                  whole.reason == "an example sentence word for word";
+  // An intent whose own templates say "not" or "never" knows what a negation means to it
+  // ("(do not|never) let me forget (to|about) {task}" fits "don't let me forget the bins").
+  auto says_not = [&](const Match& m) {
+    for (const CompiledIntent& intent : impl_->intents) {
+      if (intent.spec.skill_id != m.skill_id || intent.spec.intent != m.intent) continue;
+      for (const std::string& t : intent.spec.templates) {
+        const std::vector<std::string> w = normalize(t);
+        if (std::find(w.begin(), w.end(), "not") != w.end() ||
+            std::find(w.begin(), w.end(), "never") != w.end()) {
+          return true;
+        }
+      }
+    }
+    return false;
+  };
+  if (negated && !(whole.outcome == Understanding::Outcome::kMatch &&
+                   (said_word_for_word || says_not(*whole.match)))) {
+    Understanding no;
+    no.words = std::move(whole.words);
+    no.request = std::move(whole.request);
+    no.ranking = std::move(whole.ranking);
+    no.negated = true;
+    no.reason = "a request not to do something, and no template of it says so";
+    return no;
+  }
+  // Understood as a whole through a template word for word: done. Through the model, the
+  // rest after a lead-in may still fill the slots its template names (the same intent only).
+  const bool matched = whole.outcome == Understanding::Outcome::kMatch;
+  if ((matched && said_word_for_word) || whole.words.size() < 4) return whole;
+  const std::span<const std::string> words(whole.words);
+  for (std::size_t at = 2; at + 2 <= words.size(); ++at) {
+    if (!droppable_lead_in(words.first(at))) continue;
+    Understanding rest = understand_whole(join_words(whole.words, at, words.size()), context);
+    if (rest.outcome != Understanding::Outcome::kMatch ||
+        rest.reason != "template matches word for word") {
+      continue;
+    }
+    // A free-text slot fits nearly anything ("I need to find a good way to make soup"): the
+    // model must also believe the rest is a request rather than out of scope.
+    float p_intent = 0, p_none = 0;
+    for (const RankedIntent& ranked : rest.ranking) {
+      if (ranked.skill_id.empty()) p_none = ranked.probability;
+      if (ranked.skill_id == rest.match->skill_id && ranked.intent == rest.match->intent) {
+        p_intent = ranked.probability;
+      }
+    }
+    if (p_intent <= p_none) continue;
+    if (matched && (rest.match->skill_id != whole.match->skill_id ||
+                    rest.match->intent != whole.match->intent)) {
+      continue;
+    }
+    rest.reason = "a request after a lead-in (\"" + join_words(whole.words, 0, at) + "\")";
+    rest.words = whole.words;
+    return rest;
+  }
+  return whole;
+}
+
+Understanding Interpreter::understand_whole(std::string_view utterance,
+                                            const Context& context) const {
   Understanding u;
   if (utterance.size() > kMaxUtteranceBytes) {
     u.reason = "too long (" + std::to_string(utterance.size()) + " bytes, at most " +

@@ -110,6 +110,10 @@ struct Understanding {
   std::optional<Match> match;         // kMatch: the request
   std::vector<Match> choices;         // kAsk: the two likeliest readings, best first
   std::string reason;                 // why, in a few words ("exact template", ...)
+  // kNone for a request not to do something ("don't turn off the lights", "never call
+  // Sam"): the model knows the verbs, not the "not", so only a template that says the
+  // negation itself ("don't answer it") acts on one. Answered "OK, I won't."
+  bool negated = false;
 };
 
 // What the interpreter needs to know about the world to resolve slots.
@@ -184,7 +188,13 @@ class Interpreter {
   // (kAcceptProbability) and out of scope is not likelier; kAsk when the top two intents
   // are close and together likely; else kNone. An utterance with no words, more than 64
   // words or more than 4096 bytes is kNone. Deterministic: the same intents give the same
-  // model and answers.
+  // model and answers. An utterance not understood as a whole may be a request after a
+  // lead-in ("I'm going to bed, turn off all the lights"): the shortest lead-in whose rest
+  // matches a template word for word is dropped, unless it negates, asks, makes the rest a
+  // condition or reports someone else's words ("if", "don't", "how do I", "ask Anna to").
+  // A request that starts with "don't" or "never" is only acted on through a template that
+  // says it word for word, or by an intent whose templates say "not" or "never"
+  // (Understanding::negated).
   Understanding understand(std::string_view utterance, const Context& context) const;
 
   // Builds the intent model now (it is otherwise built by the first understand()/match()
@@ -201,6 +211,8 @@ class Interpreter {
                                       const Context& context, std::string_view request = {}) const;
 
  private:
+  Understanding understand_whole(std::string_view utterance, const Context& context) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -289,6 +289,7 @@ void Manager::handle(std::string_view utterance) {
         "no match for \"" + std::string(utterance.substr(0, 200)) + "\"" +
             (utterance.size() > 200 ? " (" + std::to_string(utterance.size()) + " bytes)" : "") +
             " (" + understood.reason + ")");
+    if (understood.negated) return say("OK, I won't.");
     std::optional<std::string> why = interpret::beyond_reach(utterance);
     say(why ? *why : no_match_sentence());
     return;

@@ -231,6 +231,49 @@ TEST_CASE("the threshold declines requests no skill serves") {
   CHECK(acted == 0);
 }
 
+TEST_CASE("a request after a remark is the request; a condition, a question or a negation is not") {
+  Interpreter in = small_home();
+  Context context = fixed_context();
+  Understanding after = in.understand("I'm going to be busy, set a timer for 10 minutes", context);
+  REQUIRE(after.outcome == Understanding::Outcome::kMatch);
+  CHECK(after.match->intent == "set");
+  CHECK(after.match->slots.at("duration").value == 600);
+  CHECK(after.reason == "a request after a lead-in (\"i am going to be busy\")");
+  CHECK(after.words.front() == "i");  // the whole utterance, as said
+  // What the lead-in changes: never acted on through the rest alone.
+  for (std::string text : {"if the cake burns set a timer for 10 minutes",
+                           "how do i set a timer for 10 minutes",
+                           "ask anna to set a timer for 10 minutes",
+                           "do you think i should set a timer for 10 minutes",
+                           "after dinner set a timer for 10 minutes"}) {
+    CAPTURE(text);
+    Understanding u = in.understand(text, context);
+    CHECK(u.reason.find("lead-in") == std::string::npos);
+  }
+}
+
+TEST_CASE("a request not to do something acts only through a template that says so") {
+  Interpreter in = small_home();
+  Context context = fixed_context();
+  for (std::string text : {"don't set a timer for 10 minutes", "please do not set a timer",
+                           "never tell me the time", "Marvin, don't remind me to call mum"}) {
+    CAPTURE(text);
+    Understanding u = in.understand(text, context);
+    CHECK(u.outcome == Understanding::Outcome::kNone);
+    CHECK(u.negated);
+    CHECK(u.choices.empty());
+  }
+  // The skill's own template says it: acted on.
+  mi::IntentSpec keep{"keeper", "keep", {"don't forget {task}"}, {{"task", SlotType::kText, {}}}};
+  in.add(keep);
+  Understanding kept = in.understand("don't forget the bins", context);
+  REQUIRE(kept.outcome == Understanding::Outcome::kMatch);
+  CHECK(kept.match->intent == "keep");
+  CHECK_FALSE(kept.negated);
+  // Without the negation, the same words are a request.
+  CHECK_FALSE(in.understand("set a timer for 10 minutes", context).negated);
+}
+
 TEST_CASE("a forgiving parse needs two of the template's own words, not one plus free text") {
   Interpreter in = small_home();
   mi::IntentSpec query{"devices",

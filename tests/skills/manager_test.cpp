@@ -370,6 +370,14 @@ TEST_CASE("a request beyond what Marvin can do is declined with the reason, and 
   CHECK(d.data.list_contacts().size() == 1);  // only Anna, as before
 }
 
+TEST_CASE("\"don't ...\" is never done; a request after a remark is") {
+  Dialogue d;
+  CHECK(d.turn("don't drive forward") == Lines{"OK, I won't."});
+  CHECK(d.turn("please never drive forward") == Lines{"OK, I won't."});
+  CHECK(d.body.motions().empty());
+  CHECK(d.turn("oh well, I'm in a friendly mood, say hello to Bob") == Lines{"Hello, bob!"});
+}
+
 TEST_CASE("speak slower / louder: the hook gets the new style, within bounds; typed, no voice") {
   Dialogue typed;
   CHECK(typed.turn("speak slower") ==
