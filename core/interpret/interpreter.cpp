@@ -743,16 +743,20 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
                        (r.size() >= 2 && (r[0] == "never" || r[0] == "dont"));
   const bool said_word_for_word = whole.reason == "template matches word for word" ||
                                   whole.reason == "an example sentence word for word";
-  // An intent whose own templates say "not" or "never" knows what a negation means to it
-  // ("(do not|never) let me forget (to|about) {task}" fits "don't let me forget the bins").
+  // An intent whose own template says the same negation of the same verb knows what it
+  // means: "(do not|never) let me forget (to|about) {task}" fits "don't let me forget the
+  // bins" (not "don't remind me about my pills").
+  const std::size_t verb_at = negated ? (r[0] == "do" ? 2 : 1) : 0;
   auto says_not = [&](const Match& m) {
     for (const CompiledIntent& intent : impl_->intents) {
       if (intent.spec.skill_id != m.skill_id || intent.spec.intent != m.intent) continue;
       for (const std::string& t : intent.spec.templates) {
         const std::vector<std::string> w = normalize(t);
-        if (std::find(w.begin(), w.end(), "not") != w.end() ||
-            std::find(w.begin(), w.end(), "never") != w.end()) {
-          return true;
+        for (std::size_t i = 0; i + 1 < w.size(); ++i) {
+          if (w[i] != "not" && w[i] != "never") continue;
+          std::size_t v = i + 1;
+          while (v < w.size() && (w[v] == "not" || w[v] == "never")) ++v;  // "(do not|never)"
+          if (v < w.size() && w[v] == r[verb_at]) return true;
         }
       }
     }

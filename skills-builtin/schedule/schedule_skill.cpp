@@ -86,6 +86,20 @@ std::string second_person(const std::string& text) {
   return out;
 }
 
+// What a cancelled reminder was: "the reminder to take your pills"; an event on the calendar
+// ("a dentist appointment", "my appointment with the bank") by its name: "the dentist
+// appointment", "your appointment with the bank".
+std::string cancelled(const std::string& title) {
+  const std::string t = lower(title);
+  for (const char* article : {"a ", "an ", "the "}) {
+    if (t.rfind(article, 0) == 0) return "the " + second_person(title.substr(std::strlen(article)));
+  }
+  if (t.rfind("my ", 0) == 0 || t.find("appointment") != std::string::npos) {
+    return second_person(title);
+  }
+  return "the reminder to " + second_person(title);
+}
+
 // "my dentist appointment", "the next bus" -> "your dentist appointment", "your next bus":
 // what the user asked about, said back as theirs (never "your the next bus").
 std::string yours(const std::string& task) {
@@ -199,6 +213,8 @@ class ScheduleSkill : public marvin::Skill {
     if (request.intent == "cancel") {
       // "Turn off the alarm": the alarm is the reminder; otherwise ask which.
       std::string task = request.slots.value("task", std::string());
+      // "cancel a reminder" may come with the task "a reminder", which names none.
+      if (lower(task) == "a reminder" || lower(task) == "reminder") task.clear();
       if (task.empty() && is_alarm(request.utterance)) task = "alarm";
       if (task.empty()) task = task_answer(robot().ask("Which reminder should I cancel?"));
       if (task.empty()) {
@@ -248,11 +264,14 @@ class ScheduleSkill : public marvin::Skill {
         return;
       }
     }
-    // "I need to take my pills at 9" comes as the task "need to take my pills".
+    // "I need to take my pills at 9" comes as the task "need to take my pills"; "add a
+    // dentist appointment on Friday" (understood by the model, no template) as "add a dentist
+    // appointment": the event is the appointment.
     for (const char* lead : {"need to ", "have to ", "got to ", "must "}) {
       const std::size_t n = std::strlen(lead);
       if (task.rfind(lead, 0) == 0 && task.size() > n) task.erase(0, n);
     }
+    if (event && lower(task).rfind("add ", 0) == 0 && task.size() > 4) task.erase(0, 4);
     task = with_names(task, request.utterance);
     const std::string spoken = spoken_whens(add_reminders(task, when));
     if (event) {
@@ -527,9 +546,14 @@ class ScheduleSkill : public marvin::Skill {
     }
     std::vector<std::string> texts;
     for (std::size_t i = 0; i < all.size() && i < 5; ++i) {
+      // A repeating one as it repeats ("every day at 8 AM"), not as its next time only.
       const LocalTime at = parse_local(all[i].at("at").get<std::string>());
-      texts.push_back(second_person(all[i].value("title", "")) + " " + spoken_day(at.day, today()) +
-                      " at " + spoken_time(at.minute_of_day));
+      const json recurrence = all[i].value("recurrence", json::object());
+      const std::string title = second_person(all[i].value("title", ""));
+      texts.push_back(recurrence.value("kind", "once") != "once"
+                          ? title + " " + spoken_recurrence(recurrence, at.minute_of_day)
+                          : title + " " + spoken_day(at.day, today()) + " at " +
+                                spoken_time(at.minute_of_day));
     }
     robot().say("You have " + std::to_string(all.size()) + (all.size() == 1 ? " reminder: " : " reminders: ") +
                 join_and(texts) + (all.size() > 5 ? ", and more." : "."));
@@ -614,7 +638,9 @@ class ScheduleSkill : public marvin::Skill {
     for (std::string w : words_of(lower(task))) {
       w = without_possessive(w);
       auto says_nothing = [&](const std::string& word) {
+        // "with", "about", "for": "my appointment with the dentist" is the dentist's.
         return word == "the" || word == "my" || word == "a" || word == "an" || word == "to" ||
+               word == "with" || word == "about" || word == "for" ||
                std::any_of(generic.begin(), generic.end(),
                            [&](const char* g) { return word == g; });
       };
@@ -743,7 +769,8 @@ class ScheduleSkill : public marvin::Skill {
   void cancel(const std::string& task) {
     // "all my", "all of them", "every": every reminder, after a question.
     const std::vector<std::string> wanted =
-        wanted_words(task, {"reminder", "all", "every", "of", "them"});
+        wanted_words(task, {"reminder", "all", "every", "of", "them", "appointment", "event",
+                            "anymore", "any", "more"});
     const std::vector<std::string> said = words_of(lower(task));
     const bool all = std::find(said.begin(), said.end(), "all") != said.end() ||
                      std::find(said.begin(), said.end(), "every") != said.end();
@@ -794,8 +821,7 @@ class ScheduleSkill : public marvin::Skill {
     robot().say(hits.size() == 1 && hits[0].value("title", "") == kAlarmTitle
                     ? std::string("OK, I cancelled the alarm.")
                 : hits.size() == 1
-                    ? "OK, I cancelled the reminder to " +
-                          second_person(hits[0].value("title", "")) + "."
+                    ? "OK, I cancelled " + cancelled(hits[0].value("title", "")) + "."
                     : "OK, I cancelled all " + std::to_string(hits.size()) + " reminders.");
   }
 

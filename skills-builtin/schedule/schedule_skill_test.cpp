@@ -161,6 +161,10 @@ TEST_CASE("remind me every day at 9 to water the plants; what's on my schedule")
   h.say("remind me to take my pills at 8 pm");
   CHECK(h.say("what's on my schedule tomorrow") == Lines{"Tomorrow: water the plants at 9 AM."});
   CHECK(h.say("what's on my schedule") == Lines{"Today: take your pills at 8 PM."});
+  // The list says how a reminder repeats, not only when it rings next.
+  CHECK(h.say("what are my reminders") ==
+        Lines{"You have 2 reminders: take your pills today at 8 PM and water the plants every "
+              "day at 9 AM."});
 }
 
 TEST_CASE("what do i have next week / this week / this weekend: each day with something") {
@@ -187,6 +191,28 @@ TEST_CASE("cancel the pill reminder: only the matching one goes") {
   REQUIRE(stored.size() == 1);
   CHECK(stored[0]["title"] == "water the plants");
   CHECK(h.say("cancel the pill reminder") == Lines{"I couldn't find a reminder about pill."});
+  CHECK(reminders(h).size() == 1);
+  // "Don't remind me any more" is cancelling, not a reminder, and never a new one.
+  CHECK(h.intent_of("don't remind me to water the plants anymore") == "schedule/cancel");
+  CHECK(h.say("stop reminding me to water the plants") ==
+        Lines{"OK, I cancelled the reminder to water the plants."});
+  CHECK(reminders(h).empty());
+}
+
+TEST_CASE("cancel my appointment with the dentist: the appointment said any way round") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  berlin(h);
+  CHECK(h.say("add a dentist appointment on friday at 3 pm") ==
+        Lines{"OK, I put a dentist appointment on your calendar on Friday, 9 January at 3 PM."});
+  h.say("remind me to take my pills at 8 pm");
+  CHECK(h.say("cancel my appointment with the dentist") ==
+        Lines{"OK, I cancelled the dentist appointment."});
+  const auto stored = reminders(h);
+  REQUIRE(stored.size() == 1);
+  CHECK(stored[0]["title"] == "take my pills");
+  h.say("add my appointment with the bank to my calendar on monday at 10 am");
+  CHECK(h.say("cancel my appointment with the bank") ==
+        Lines{"OK, I cancelled your appointment with the bank."});
   CHECK(reminders(h).size() == 1);
 }
 
