@@ -112,7 +112,7 @@ struct Understanding {
   std::string reason;                 // why, in a few words ("exact template", ...)
   // kNone for a request not to do something ("don't turn off the lights", "never call
   // Sam"): the model knows the verbs, not the "not", so only a template that says the
-  // negation itself ("don't answer it") acts on one. Answered "OK, I won't."
+  // negation itself ("don't answer it") acts on one. The manager answers "OK, I won't."
   bool negated = false;
 };
 
@@ -193,7 +193,7 @@ class Interpreter {
   // matches a template word for word is dropped, unless it negates, asks, makes the rest a
   // condition or reports someone else's words ("if", "don't", "how do I", "ask Anna to").
   // A request that starts with "don't" or "never" is only acted on through a template that
-  // says it word for word, or by an intent whose templates say "not" or "never"
+  // says it word for word, or by an intent with a template that negates the same verb
   // (Understanding::negated).
   Understanding understand(std::string_view utterance, const Context& context) const;
 
