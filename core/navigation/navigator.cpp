@@ -112,6 +112,11 @@ bool Navigator::tell(const GuideEvent& event) { return !on_event_ || (*on_event_
 GoResult Navigator::go(std::string_view name, const WaitFn& wait, double speed_factor,
                        const GuideFn* on_event) {
   std::lock_guard lock(run_mutex_);
+  driver_.store(std::this_thread::get_id());
+  struct ClearDriver {
+    std::atomic<std::thread::id>& driver;
+    ~ClearDriver() { driver.store(std::thread::id()); }
+  } clear_driver{driver_};
   stop_requested_.store(false);
   speed_factor_ = speed_factor;
   on_event_ = on_event;
@@ -275,7 +280,9 @@ std::optional<GoingPlaces::PlaceInfo> Navigator::find_place(std::string_view nam
 std::optional<double> Navigator::path_length_to(std::string_view name) {
   std::optional<Target> target = map_.find(name);
   if (!target) return std::nullopt;
-  // Not while driving: go() holds the lock for the whole drive and owns the grid.
+  // Not while driving: go() holds the lock for the whole drive and owns the grid (asked from
+  // the driving thread itself, by a guide callback, trying the lock would be undefined).
+  if (driver_.load() == std::this_thread::get_id()) return std::nullopt;
   std::unique_lock lock(run_mutex_, std::try_to_lock);
   if (!lock.owns_lock()) return std::nullopt;
   const Vec2 from = pose_().position();

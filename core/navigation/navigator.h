@@ -16,6 +16,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "devices/body.h"
@@ -102,6 +103,9 @@ class Navigator : public GoingPlaces {
   OccupancyGrid grid_;
   Planner planner_;
   std::mutex run_mutex_;  // one go_to at a time
+  // The thread inside go() (holding run_mutex_), else none: a guide callback on it that asks
+  // path_length_to must not try a lock its own thread holds.
+  std::atomic<std::thread::id> driver_{};
   mutable std::mutex path_mutex_;
   std::vector<Vec2> path_;
   std::vector<Vec2> seen_;   // where the sonar found something during this go_to

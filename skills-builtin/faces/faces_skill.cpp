@@ -166,7 +166,8 @@ class FacesSkill : public marvin::Skill {
     const json seen = robot().vision_look();
     const auto people = people_in(seen);
     if (people.empty()) {
-      robot().say(me ? "I can't see you. Please come and stand in front of me." : "I don't see anyone.");
+      robot().say(me ? "I can't see you. Please come and stand in front of me."
+                     : "I don't see anyone.");
     } else if (people.size() == 1 && people[0] != "someone I don't know" &&
                people[0].find("people") == std::string::npos) {
       robot().say((me ? "You're " : "That's ") + people[0] + ".");

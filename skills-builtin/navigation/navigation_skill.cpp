@@ -1,6 +1,7 @@
 // Built-in skill "navigation": "go to the kitchen", "come here", "turn left", "turn around",
-// "where are you", "where am I", "how far is the kitchen", "go to sleep", through the Robot API's going-places calls (API 1.2). "stop"
-// is the manager's: it cancels the running go_to, which stops the wheels before it returns.
+// "where are you", "where am I", "how far is the kitchen", "go to sleep", through the Robot
+// API's going-places calls (API 1.2). "stop" is the manager's: it cancels the running go_to,
+// which stops the wheels before it returns.
 #include <cctype>
 #include <cmath>
 #include <marvin/skill.hpp>
@@ -115,7 +116,8 @@ class NavigationSkill : public marvin::Skill {
     std::string said = person ? "The last place I saw " + shown : shown;
     said[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(said[0])));
     std::optional<std::string> here = robot().where_am_i();
-    if (info->value("kind", "") == "room" && here && plain(*here) == plain(info->value("name", ""))) {
+    const bool in_it = here && plain(*here) == plain(info->value("name", ""));
+    if (info->value("kind", "") == "room" && in_it) {
       return robot().say("I'm in the " + *here + " now.");
     }
     if (!info->contains("distance_m")) {

@@ -109,7 +109,17 @@ TEST_CASE("how far: the length of the path the robot would drive, without drivin
   CHECK(*kitchen < 4.5);
   CHECK_FALSE(rig.nav.path_length_to("the garage").has_value());
   CHECK(rig.runner.now_ms() == 0);  // asking moved nothing
-  REQUIRE(rig.go("the kitchen").arrived());
+  // Asked while driving (here from the drive's own thread, as a guide callback would): no
+  // length, and the drive goes on.
+  int asked = 0, answered = 0;
+  GoResult to_kitchen = rig.nav.go_to("the kitchen", [&](std::chrono::milliseconds ms) {
+    ++asked;
+    if (rig.nav.path_length_to("the bedroom")) ++answered;
+    return rig.runner.wait(ms, [] { return false; });
+  });
+  REQUIRE(to_kitchen.arrived());
+  CHECK(asked > 0);
+  CHECK(answered == 0);
   CHECK(*rig.nav.path_length_to("kitchen") < 0.5);
   // A box in the kitchen door: no way into the kitchen, so no length.
   auto w = home();
