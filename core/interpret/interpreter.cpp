@@ -401,6 +401,9 @@ constexpr float kNoneRatioWithTemplate = 0.25F;
 constexpr float kNoneRatioTemplateOnly = 0.2F;
 constexpr float kAcceptTemplateOnly = 0.1F;
 constexpr float kLowTemplateCost = 1.5F;
+// Lead-ins are looked for in utterances of at most this many words (each split is a whole
+// understanding: a long monologue is not a lead-in and a request).
+constexpr std::size_t kMaxLeadInWords = 24;
 constexpr float kAskEach = 0.2F;
 constexpr float kAskTogether = 0.5F;
 // An accepted intent whose runner-up is this close is asked about instead.
@@ -725,7 +728,7 @@ bool droppable_lead_in(std::span<const std::string> lead) {
   // A lead-in is a whole clause: it does not end on a subject, an article or a conjunction
   // ("then I | turn off ...", "so you | ...").
   static const std::set<std::string, std::less<>> kNotLast = {
-      "i", "we", "you", "he", "she", "they", "and", "or", "the", "a", "my", "please", "just"};
+      "i", "we", "he", "she", "they", "and", "or", "the", "a", "my", "please", "just"};
   if (lead.size() < 2) return false;
   if (kNotFirst.count(lead.front()) || kNotLast.count(lead.back())) return false;
   // A number is a time or an amount the request would need ("in 5 minutes", "at 8").
@@ -772,18 +775,28 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     no.reason = "a request not to do something, and no template of it says so";
     return no;
   }
-  // Understood as a whole through a template word for word: done. Through the model, the
-  // rest after a lead-in may still fill the slots its template names (the same intent only).
+  // Understood as a whole through a template word for word: done.
   const bool matched = whole.outcome == Understanding::Outcome::kMatch;
   if ((matched && said_word_for_word) || whole.words.size() < 4) return whole;
+  // Every droppable lead-in is tried; the rest that fits its template best wins (word for
+  // word is cost 0), the shortest lead-in on a tie.
+  if (whole.words.size() > kMaxLeadInWords) return whole;
   const std::span<const std::string> words(whole.words);
+  std::optional<Understanding> best;
+  std::size_t best_at = 0;
   for (std::size_t at = 2; at + 2 <= words.size(); ++at) {
     if (!droppable_lead_in(words.first(at))) continue;
     Understanding rest = understand_whole(join_words(whole.words, at, words.size()), context);
+    // Not understood as a whole: the rest must fit a template word for word. Taken by the
+    // model as a whole: the rest only fills the same intent's slots without the lead-in, and
+    // must fit one of its templates closely ("it's late, set an alarm for 7 tomorrow" is no
+    // task "it is late set an alarm for").
+    const bool word_for_word = rest.reason == "template matches word for word";
     if (rest.outcome != Understanding::Outcome::kMatch ||
-        rest.reason != "template matches word for word") {
+        (!word_for_word && (!matched || rest.match->cost > 1.0F))) {
       continue;
     }
+    if (word_for_word) rest.match->cost = 0;
     // A free-text slot fits nearly anything ("I need to find a good way to make soup"): the
     // model must also believe the rest is a request rather than out of scope.
     float p_intent = 0, p_none = 0;
@@ -798,11 +811,15 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
                     rest.match->intent != whole.match->intent)) {
       continue;
     }
-    rest.reason = "a request after a lead-in (\"" + join_words(whole.words, 0, at) + "\")";
-    rest.words = whole.words;
-    return rest;
+    if (!best || rest.match->cost < best->match->cost) {
+      best = std::move(rest);
+      best_at = at;
+    }
   }
-  return whole;
+  if (!best) return whole;
+  best->reason = "a request after a lead-in (\"" + join_words(whole.words, 0, best_at) + "\")";
+  best->words = whole.words;
+  return *best;
 }
 
 Understanding Interpreter::understand_whole(std::string_view utterance,

@@ -188,9 +188,9 @@ class Interpreter {
   // (kAcceptProbability) and out of scope is not likelier; kAsk when the top two intents
   // are close and together likely; else kNone. An utterance with no words, more than 64
   // words or more than 4096 bytes is kNone. Deterministic: the same intents give the same
-  // model and answers. An utterance not understood as a whole may be a request after a
-  // lead-in ("I'm going to bed, turn off all the lights"): the shortest lead-in whose rest
-  // matches a template word for word is dropped, unless it negates, asks, makes the rest a
+  // model and answers. An utterance not understood as a whole (or only by the model) may be
+  // a request after a lead-in ("I'm going to bed, turn off all the lights"): the lead-in
+  // whose rest fits a template best is dropped, unless it negates, asks, makes the rest a
   // condition or reports someone else's words ("if", "don't", "how do I", "ask Anna to").
   // A request that starts with "don't" or "never" is only acted on through a template that
   // says it word for word, or by an intent with a template that negates the same verb

@@ -119,6 +119,13 @@ class FindingSkill : public marvin::Skill {
  private:
   Wanted wanted(std::string what) {
     what = trim_end(lower(what));
+    // "I can't find my glasses, can you help me find them" fills "i can't find {what}" with
+    // everything after "find": the thing ends where the request for help starts.
+    for (const char* then : {" can you ", " could you ", " will you ", " would you ",
+                             " please ", " help me ", " where ", " have you "}) {
+      const std::size_t at = (what + " ").find(then);
+      if (at != std::string::npos && at > 0) what.resize(at);
+    }
     Wanted w;
     // "my daughter" is the contact whose relation that is: a person, by name.
     if (what.rfind("my ", 0) == 0) {

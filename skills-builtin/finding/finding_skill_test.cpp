@@ -149,6 +149,10 @@ TEST_CASE("where are my keys: search, report, lead the way; never seen and never
   CHECK(h.say("where are my slippers").back() ==
         "I don't know what your slippers look like, and I have never seen them. Show me and say "
         "\"these are my slippers\".");
+  // The thing ends where the request for help starts.
+  CHECK(h.say("I can't find my slippers, can you help me find them").back() ==
+        "I don't know what your slippers look like, and I have never seen them. Show me and say "
+        "\"these are my slippers\".");
 }
 
 TEST_CASE("where is the kitchen / the sofa: from the map, no search; the way there if wanted") {
