@@ -401,6 +401,10 @@ constexpr float kNoneRatioWithTemplate = 0.25F;
 constexpr float kNoneRatioTemplateOnly = 0.2F;
 constexpr float kAcceptTemplateOnly = 0.1F;
 constexpr float kLowTemplateCost = 1.5F;
+// The reasons of the two word-for-word decisions; understand() tells them apart from the
+// model's by these.
+constexpr const char* kExactTemplate = "template matches word for word";
+constexpr const char* kExactExample = "an example sentence word for word";
 // Lead-ins are looked for in utterances of at most this many words (each split is a whole
 // understanding: a long monologue is not a lead-in and a request).
 constexpr std::size_t kMaxLeadInWords = 24;
@@ -744,8 +748,7 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
   const std::vector<std::string>& r = whole.request;
   const bool negated = (r.size() >= 3 && r[0] == "do" && r[1] == "not") ||
                        (r.size() >= 2 && (r[0] == "never" || r[0] == "dont"));
-  const bool said_word_for_word = whole.reason == "template matches word for word" ||
-                                  whole.reason == "an example sentence word for word";
+  const bool said_word_for_word = whole.reason == kExactTemplate || whole.reason == kExactExample;
   // An intent whose own template says the same negation of the same verb knows what it
   // means: "(do not|never) let me forget (to|about) {task}" fits "don't let me forget the
   // bins" (not "don't remind me about my pills").
@@ -791,7 +794,7 @@ Understanding Interpreter::understand(std::string_view utterance, const Context&
     // model as a whole: the rest only fills the same intent's slots without the lead-in, and
     // must fit one of its templates closely ("it's late, set an alarm for 7 tomorrow" is no
     // task "it is late set an alarm for").
-    const bool word_for_word = rest.reason == "template matches word for word";
+    const bool word_for_word = rest.reason == kExactTemplate;
     if (rest.outcome != Understanding::Outcome::kMatch ||
         (!word_for_word && (!matched || rest.match->cost > 1.0F))) {
       continue;
@@ -892,7 +895,7 @@ Understanding Interpreter::understand_whole(std::string_view utterance,
     m.literal_words = exact[*best]->literal_words;
     u.match = std::move(m);
     u.outcome = Understanding::Outcome::kMatch;
-    u.reason = "template matches word for word";
+    u.reason = kExactTemplate;
     break;
   }
 
@@ -908,7 +911,7 @@ Understanding Interpreter::understand_whole(std::string_view utterance,
       m.confidence = p[example->second];
       u.match = std::move(m);
       u.outcome = Understanding::Outcome::kMatch;
-      u.reason = "an example sentence word for word";
+      u.reason = kExactExample;
     }
   }
 

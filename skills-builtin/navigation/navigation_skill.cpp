@@ -34,7 +34,7 @@ class NavigationSkill : public marvin::Skill {
     } else if (request.intent == "where_am_i") {
       where_is_user();
     } else if (request.intent == "come_here") {
-      go("me", "I'm here.");
+      go("me", Lookup{}, "I'm here.");
     } else if (request.intent == "turn") {
       turn(request.utterance);
     } else if (request.intent == "rest") {
@@ -43,7 +43,7 @@ class NavigationSkill : public marvin::Skill {
       how_far(plain(request.slots.value("place", std::string())));
     } else if (request.intent == "go_to") {
       const std::string place = plain(request.slots.value("place", std::string()));
-      go(place, "");
+      go(place, look_up(place), "");
     } else {
       throw marvin::Error(MARVIN_ERR_INVALID, "unknown intent '" + request.intent + "'");
     }
@@ -89,30 +89,25 @@ class NavigationSkill : public marvin::Skill {
   // listens for its name, and says so: "sleep" must not sound like "deaf".
   void rest() {
     const char* wake = "Say \"Marvin\" when you need me.";
-    std::optional<nlohmann::json> charger;
-    try {
-      charger = robot().place_find("charger");
-    } catch (const marvin::Error&) {
-      // An older host or no map: rest where it is.
-    }
-    if (!charger) return robot().say(std::string("OK. ") + wake);
-    go("charger", std::string("I'm at my charger. ") + wake);
+    const Lookup charger = look_up("charger");
+    // No charger on the map, or an older host or no map: rest where it is.
+    if (!charger.info) return robot().say(std::string("OK. ") + wake);
+    go("charger", charger, std::string("I'm at my charger. ") + wake);
   }
 
   // "how far is the kitchen": metres along the path the robot would drive from where it
   // stands (the person asking is usually beside it), rounded as people say them.
   void how_far(const std::string& place) {
-    std::optional<nlohmann::json> info;
-    try {
-      info = robot().place_find(place);
-    } catch (const marvin::Error&) {
-      // An older host or no map: the same as not knowing how far.
-      return robot().say("Sorry, I can't tell how far the " + place + " is from here.");
+    const Lookup found = look_up(place);
+    const std::string shown = shown_name(place, found);
+    // An older host or no map: the same as not knowing how far.
+    if (!found.can_tell) {
+      return robot().say("Sorry, I can't tell how far " + shown + " is from here.");
     }
-    if (!info) return robot().say("Sorry, I don't know where the " + place + " is.");
+    if (!found.info) return robot().say("Sorry, I don't know where " + shown + " is.");
+    const std::optional<nlohmann::json>& info = found.info;
     // A person is where the map last placed them, which may not be where they are now.
     const bool person = info->value("kind", "") == "person";
-    const std::string shown = person ? info->value("name", place) : "the " + place;
     std::string said = person ? "The last place I saw " + shown : shown;
     said[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(said[0])));
     std::optional<std::string> here = robot().where_am_i();
@@ -131,33 +126,37 @@ class NavigationSkill : public marvin::Skill {
                 " away.");
   }
 
-  // How to say a place: "you", "Anna" (a person: as the map spells the name, no "the"),
-  // "the kitchen". Hosts before API 1.3 cannot tell people apart: "the" then.
-  std::string shown_name(const std::string& place) {
-    if (place == "me") return "you";
+  // What the map says of a place, asked once per request: `info` is nullopt for a name it
+  // does not know. A host before API 1.3, or one without a map, cannot say (`can_tell`).
+  struct Lookup {
+    std::optional<nlohmann::json> info;
+    bool can_tell = true;
+  };
+  Lookup look_up(const std::string& place) {
+    Lookup found;
     try {
-      if (auto info = robot().place_find(place)) {
-        if (info->value("kind", "") == "person") return info->value("name", place);
-      }
+      found.info = robot().place_find(place);
     } catch (const marvin::Error&) {
-      // An older host (UNAVAILABLE) or no map: fall back to the plain name.
+      found.can_tell = false;
+    }
+    return found;
+  }
+
+  // How to say a place: "you", "Anna" (a person: as the map spells the name, no "the"),
+  // "the kitchen". Hosts that cannot tell people apart: "the" then.
+  static std::string shown_name(const std::string& place, const Lookup& found) {
+    if (place == "me") return "you";
+    if (found.info && found.info->value("kind", "") == "person") {
+      return found.info->value("name", place);
     }
     return "the " + place;
   }
 
-  // False when the map knows no such place (an older host cannot say: true).
-  bool on_map(const std::string& place) {
-    try {
-      return robot().place_find(place).has_value();
-    } catch (const marvin::Error&) {
-      return true;  // API before 1.3 or no map: go_to will tell
-    }
-  }
-
-  void go(const std::string& place, const std::string& arrived) {
-    const std::string shown = shown_name(place);
-    // Not "On my way" to somewhere it cannot go.
-    if (place != "me" && !on_map(place)) {
+  // `found`: look_up(place), done by the caller ("me" needs none).
+  void go(const std::string& place, const Lookup& found, const std::string& arrived) {
+    const std::string shown = shown_name(place, found);
+    // Not "On my way" to somewhere it cannot go (a host that cannot tell: go_to will).
+    if (place != "me" && found.can_tell && !found.info) {
       robot().say("Sorry, I don't know where " + shown + " is.");
       return;
     }
