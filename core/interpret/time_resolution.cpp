@@ -162,9 +162,12 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
         } else if (phrase.morning) {
           // the morning reading, as parsed
         } else if (phrase.kind == RecurrenceKind::kOnce && !phrase.day_offset &&
-                   phrase.weekday_mask == 0 && phrase.month == 0) {
+                   phrase.weekday_mask == 0 && phrase.month == 0 && hour > 6) {
           both_readings = true;
         } else if (hour <= 6) {
+          // 1..6 is the afternoon, with a day or without: "remind me to call the bank at 3"
+          // said at 10 PM is 3 PM tomorrow, not a reminder that wakes the owner at 3 AM.
+          // (An alarm's "wake me at 5" was read as morning above.)
           hour += 12;
         }
       }

@@ -38,6 +38,19 @@ nlohmann::json when(const std::string& text, const Context& context) {
 
 }  // namespace
 
+TEST_CASE("an hour without am/pm said late in the evening") {
+  Context context;
+  context.now_utc_ms = utc_ms(2024_y / 3 / 29, hours(21));  // 22:00 in Berlin
+  context.time_zone = "Europe/Berlin";
+  // 1..6 is the afternoon even without a day: nobody wants a reminder at 3 AM.
+  CHECK(when("at 3", context)["at"] == "2024-03-30T15:00");
+  CHECK(when("at half past 4", context)["at"] == "2024-03-30T16:30");
+  // 7..11 is whichever comes first: the morning.
+  CHECK(when("at 9", context)["at"] == "2024-03-30T09:00");
+  CHECK(when("at 11", context)["at"] == "2024-03-29T23:00");
+  CHECK(when("at 3 am", context)["at"] == "2024-03-30T03:00");
+}
+
 TEST_CASE("time expressions: table against Friday 2024-03-29 10:00 Europe/Berlin") {
   Context context = berlin_friday();
   struct Case {
