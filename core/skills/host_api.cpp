@@ -384,6 +384,18 @@ marvin_status api_contacts_add(marvin_host* host, const char* contact_json,
   });
 }
 
+marvin_status api_contacts_remove(marvin_host* host, int64_t contact_id) {
+  return guarded(host, [&](SkillContext& c) {
+    MARVIN_TRY(need(c, "contacts"));
+    MARVIN_TRY(need_service(c, c.services().data, "personal data store"));
+    if (!c.services().data->remove_contact(contact_id)) {
+      return fail(c, MARVIN_ERR_NOT_FOUND,
+                  "there is no contact with id " + std::to_string(contact_id));
+    }
+    return MARVIN_OK;
+  });
+}
+
 marvin_status api_people_list(marvin_host* host, marvin_text_out* people_json) {
   return guarded(host, [&](SkillContext& c) {
     MARVIN_TRY(need(c, "contacts"));
@@ -913,6 +925,7 @@ const marvin_robot_api* host_robot_api() {
     a.phone_call_for_help = api_phone_call_for_help;
     add_guiding_api(a);
     a.contacts_list = api_contacts_list;
+    a.contacts_remove = api_contacts_remove;
     keep_answers_of_acting_calls(a);
     return a;
   }();

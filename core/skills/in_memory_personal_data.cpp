@@ -123,7 +123,12 @@ std::vector<data::Contact> InMemoryPersonalData::list_contacts() {
 
 bool InMemoryPersonalData::remove_contact(std::int64_t id) {
   std::lock_guard lock(mutex_);
-  return contacts_.erase(id) > 0;
+  if (contacts_.erase(id) == 0) return false;
+  // As the SQLite store's ON DELETE SET NULL: the person stays, unlinked.
+  for (auto& [person_id, p] : people_) {
+    if (p.contact_id == id) p.contact_id.reset();
+  }
+  return true;
 }
 
 std::vector<data::Person> InMemoryPersonalData::list_people() {

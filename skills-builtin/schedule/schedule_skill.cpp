@@ -10,6 +10,7 @@
 //   "add a contact"                                -> asks name and number
 //   "what is Anna's number"
 //   "who are my contacts"                          -> their names, the relation first
+//   "delete Peter from my contacts"                -> asks, then forgets that contact
 //   "snooze" / "remind me again in 20 minutes" -> the reminder that fired last fires again
 //                                                 then (10 minutes when no time is said)
 //   "done" / "I took them"                     -> marks the reminder that fired last done
@@ -68,6 +69,13 @@ std::vector<std::string> words_of(const std::string& text) {
 std::string without_possessive(std::string word) {
   if (word.size() > 2 && word.compare(word.size() - 2, 2, "'s") == 0) word.resize(word.size() - 2);
   return word;
+}
+
+// The answer to a yes/no question that lets the skill go ahead: anything else keeps things
+// as they are, so an unclear answer never cancels or removes.
+bool agreed(const std::string& answer) {
+  const std::string a = lower(answer);
+  return a.rfind("yes", 0) == 0 || a.rfind("yeah", 0) == 0 || a == "please do";
 }
 
 // "take my pills" said by the owner is "take your pills" said back.
@@ -229,6 +237,9 @@ class ScheduleSkill : public marvin::Skill {
     if (request.intent == "add_contact") return add_contact(request);
     if (request.intent == "contact_number") return contact_number(request.slots.at("name").get<std::string>());
     if (request.intent == "list_contacts") return list_contacts();
+    if (request.intent == "remove_contact") {
+      return remove_contact(request.slots.at("name").get<std::string>());
+    }
     if (request.intent == "add_event") return remind(request, true);
     if (request.intent == "have_event") return have_event(request);
     if (request.intent == "list_reminders") return list_reminders();
@@ -784,7 +795,7 @@ class ScheduleSkill : public marvin::Skill {
     if (everything && hits.size() > 1) {
       const std::string answer = lower(robot().ask("You have " + std::to_string(hits.size()) +
                                                    " reminders. Should I cancel all of them?"));
-      if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please do") {
+      if (!agreed(answer)) {
         robot().say("OK, I kept them.");
         return;
       }
@@ -812,7 +823,7 @@ class ScheduleSkill : public marvin::Skill {
       const std::string answer = lower(robot().ask(
           "I found " + std::to_string(hits.size()) + " reminders: " + join_and(titles) +
           ". Should I cancel all of them?"));
-      if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please do") {
+      if (!agreed(answer)) {
         robot().say("OK, I kept them.");
         return;
       }
@@ -970,13 +981,25 @@ class ScheduleSkill : public marvin::Skill {
 
   void add_contact(const marvin::Request& request) {
     // "save Tom's number as ...": the name is Tom.
-    const std::string name =
-        capitalised(without_possessive(request.slots.at("name").get<std::string>()));
-    // "with the number 12": the template's optional words may land in the slot.
-    std::string heard = request.slots.at("number").get<std::string>();
-    for (const char* lead : {"with ", "the ", "phone ", "number ", "is "}) {
-      if (heard.rfind(lead, 0) == 0) heard.erase(0, std::string(lead).size());
+    std::string name = without_possessive(request.slots.at("name").get<std::string>());
+    // "add a contact Mary Jones 555 1234" has no word between the two slots, and the name
+    // took only "mary": the words before the first digit are still the name's, less the
+    // template's optional words ("with the number 12") that may land there too.
+    const std::string slot = request.slots.at("number").get<std::string>();
+    const auto digit = [](unsigned char c) { return std::isdigit(c) != 0; };
+    std::string heard;
+    bool in_number = std::none_of(slot.begin(), slot.end(), digit);  // "banana": said back
+    for (const std::string& w : words_of(slot)) {
+      in_number = in_number || w == "plus" || std::any_of(w.begin(), w.end(), digit);
+      static const std::set<std::string> kBetween{"with", "the", "phone", "number", "is",
+                                                  "and", "his", "her", "their"};
+      if (in_number) {
+        heard += (heard.empty() ? "" : " ") + w;
+      } else if (kBetween.count(lower(w)) == 0) {
+        name += " " + w;
+      }
     }
+    name = capitalised(name);
     std::string number;
     int digits = 0;
     for (const std::string& w : words_of(lower(heard))) {
@@ -1001,6 +1024,55 @@ class ScheduleSkill : public marvin::Skill {
     }
     robot().contacts_add({{"name", name}, {"phone_numbers", {number}}});
     robot().say("OK, I added " + name + " with the number " + spoken_number(number) + ".");
+  }
+
+  // "delete Peter from my contacts": asked first, as the number may be written nowhere else.
+  void remove_contact(const std::string& said) {
+    std::string name = without_possessive(said);
+    static const std::set<std::string> kEveryone{"all",        "everyone",    "everybody",
+                                                 "everything", "all of them", "every contact",
+                                                 "them all"};
+    if (kEveryone.count(lower(name)) != 0) {
+      // The address book is what "call my daughter" and "call for help" rely on: emptied by
+      // one misheard sentence, it could not be said back. One at a time, by name.
+      robot().say("I remove contacts one at a time. Tell me the name of the one to remove.");
+      return;
+    }
+    const json found = find_contacts(name);
+    if (found.empty()) {
+      robot().say("I don't have a contact called " + capitalised(name) + ".");
+      return;
+    }
+    if (found.size() > 1) {
+      std::vector<std::string> names;
+      for (const json& c : found) names.push_back(c.value("name", ""));
+      robot().say("You have " + std::to_string(found.size()) + " contacts called " +
+                  capitalised(name) + ": " + join_and(names) +
+                  ". Tell me the full name of the one to remove.");
+      return;
+    }
+    const std::string full = found[0].value("name", "");
+    if (!agreed(robot().ask("Remove " + full + " from your contacts?"))) {
+      robot().say("OK, I kept " + full + ".");
+      return;
+    }
+    robot().contacts_remove(found[0].at("id").get<std::int64_t>());
+    robot().say("OK, I removed " + full + " from your contacts.");
+  }
+
+  // The contacts a spoken name means. Speech has no apostrophe: "my doctors number" is my
+  // doctor's, so a name ending in "s" that finds nobody is tried without it (and `name`
+  // loses it too, to be said back).
+  json find_contacts(std::string& name) {
+    json found = robot().contacts_find(name);
+    if (found.empty() && name.size() > 1 && name.back() == 's') {
+      json without = robot().contacts_find(name.substr(0, name.size() - 1));
+      if (!without.empty()) {
+        name.pop_back();
+        found = std::move(without);
+      }
+    }
+    return found;
   }
 
   // "your daughter Anna Schmidt, Doctor Brown and Tom": the relation says who a name is,
@@ -1032,15 +1104,7 @@ class ScheduleSkill : public marvin::Skill {
 
   void contact_number(std::string name) {
     name = without_possessive(name);
-    json found = robot().contacts_find(name);
-    // Speech has no apostrophe: "my doctors number" is my doctor's.
-    if (found.empty() && name.size() > 1 && name.back() == 's') {
-      json without = robot().contacts_find(name.substr(0, name.size() - 1));
-      if (!without.empty()) {
-        name.pop_back();
-        found = std::move(without);
-      }
-    }
+    const json found = find_contacts(name);
     if (found.empty()) {
       robot().say("I don't have a contact called " + capitalised(name) + ".");
       return;

@@ -383,6 +383,43 @@ TEST_CASE("add a contact in one sentence: name and number from it, only what is 
   CHECK(h.say("add Sue to my contacts with the number twelve") ==
         Lines{"Sorry, \"12\" doesn't sound like a phone number. I didn't add Sue."});
   CHECK(h.say("what is Sue's number") == Lines{"I don't have a contact called Sue."});
+  // Nothing between name and number: the words before the first digit are the name.
+  CHECK(h.say("add a contact Mary Jones 555 1234") ==
+        Lines{"OK, I added Mary Jones with the number 5 5 5, 1 2 3 4."});
+  CHECK(h.say("save a new contact called Peter Smith with the number 0612 345") ==
+        Lines{"OK, I added Peter Smith with the number 0 6 1 2, 3 4 5."});
+  CHECK(h.say("what is Mary Jones's number") == Lines{"Mary Jones's number is 5 5 5, 1 2 3 4."});
+}
+
+TEST_CASE("delete Peter from my contacts: asked first; no, nobody or two of a name keep all") {
+  marvin::testing::SkillHarness h(SCHEDULE_SKILL_DIR);
+  CHECK(h.intent_of("remove anna from my address book") == "schedule/remove_contact");
+  h.robot().add_contact("Peter Smith", {"Peter"}, {"0612"});
+  h.robot().add_contact_json(R"({"name": "Anna Schmidt", "relation": "daughter",
+                                 "phone_numbers": ["0171"]})");
+  CHECK(h.say("delete Carla from my contacts") == Lines{"I don't have a contact called Carla."});
+  CHECK(h.say("remove everyone from my contacts") ==
+        Lines{"I remove contacts one at a time. Tell me the name of the one to remove."});
+  CHECK(h.say("delete Peter from my contacts", {"no"}) ==
+        Lines{"Remove Peter Smith from your contacts?", "OK, I kept Peter Smith."});
+  CHECK(h.say("what is Peter's number") == Lines{"Peter Smith's number is 0 6 1 2."});
+  // Two called Peter: neither is removed on a guess.
+  h.robot().add_contact("Peter Brown", {"Peter"}, {"0301"});
+  const Lines two = h.say("remove Peter from my address book");
+  REQUIRE(two.size() == 1);
+  CHECK(two[0].rfind("You have 2 contacts called Peter: Peter ", 0) == 0);
+  CHECK(two[0].find("Tell me the full name of the one to remove.") != std::string::npos);
+  CHECK(h.say("delete peter smith from my contacts", {"yes"}) ==
+        Lines{"Remove Peter Smith from your contacts?",
+              "OK, I removed Peter Smith from your contacts."});
+  CHECK(h.say("what is Peter Smith's number") ==
+        Lines{"I don't have a contact called Peter Smith."});
+  CHECK(h.say("what is Peter's number") == Lines{"Peter Brown's number is 0 3 0 1."});
+  // Who they are finds them too; the name is asked when it was not said.
+  CHECK(h.say("delete a contact", {"my daughter", "yes"}) ==
+        Lines{"Whose contact should I remove?", "Remove Anna Schmidt from your contacts?",
+              "OK, I removed Anna Schmidt from your contacts."});
+  CHECK(h.say("who are my contacts") == Lines{"You have one contact: Peter Brown."});
 }
 
 TEST_CASE("who are my contacts: none, then the names with who they are, by name") {

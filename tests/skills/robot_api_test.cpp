@@ -233,6 +233,41 @@ TEST_CASE("contacts and people") {
   CHECK(json::parse(std::string(buffer, out.length))[0]["name"] == "Anna");
 }
 
+TEST_CASE("contacts_remove (API 1.7): the contact goes, the person known by face stays") {
+  World w;
+  SkillContext c("contacts", {"contacts"}, w.services);
+  REQUIRE(api().struct_size >= offsetof(marvin_robot_api, contacts_remove) + sizeof(void*));
+  marvin::data::Contact anna;
+  anna.name = "Anna Schmidt";
+  anna.phone_numbers = {"0123"};
+  const std::int64_t anna_id = w.data.add_contact(anna);
+  marvin::data::Contact tom;
+  tom.name = "Tom";
+  const std::int64_t tom_id = w.data.add_contact(tom);
+  marvin::data::Person face;
+  face.name = "Anna";
+  face.contact_id = anna_id;
+  w.data.add_person(face);
+
+  SkillContext without("dice", {"storage"}, w.services);
+  CHECK(api().contacts_remove(without.host(), anna_id) == MARVIN_ERR_PERMISSION);
+  const std::int64_t unknown = anna_id + tom_id + 1;
+  CHECK(api().contacts_remove(c.host(), unknown) == MARVIN_ERR_NOT_FOUND);
+  CHECK(std::string(api().last_error(c.host())) ==
+        "there is no contact with id " + std::to_string(unknown));
+  CHECK(w.data.list_contacts().size() == 2);
+
+  REQUIRE(api().contacts_remove(c.host(), anna_id) == MARVIN_OK);
+  const auto left = w.data.list_contacts();
+  REQUIRE(left.size() == 1);
+  CHECK(left[0].name == "Tom");
+  const auto people = w.data.list_people();
+  REQUIRE(people.size() == 1);
+  CHECK(people[0].name == "Anna");
+  CHECK_FALSE(people[0].contact_id.has_value());
+  CHECK(api().contacts_remove(c.host(), anna_id) == MARVIN_ERR_NOT_FOUND);
+}
+
 TEST_CASE("storage: bytes, per skill, truncation reported with the full length") {
   World w;
   SkillContext a("a", {"storage"}, w.services);

@@ -12,7 +12,7 @@
  *   "motion"    move, stop, tilt_head, go_to, go_stop (API 1.2), guide_to (API 1.4)
  *   "sensors"   obstacle_scan, where_am_i (API 1.2)
  *   "schedule"  schedule_* (schedule_snooze, schedule_done, schedule_last_fired: API 1.1)
- *   "contacts"  contacts_*, people_list (contacts_list: API 1.5)
+ *   "contacts"  contacts_*, people_list (contacts_list: API 1.5; contacts_remove: 1.7)
  *   "storage"   storage_*             (a skill only ever sees its own keys)
  *   "camera"    vision_look, vision_capture_photo (API 1.2)
  *   "faces"     vision_enroll_face, vision_forget_face (API 1.2): who the robot knows
@@ -81,7 +81,7 @@ typedef enum marvin_log_level {
 typedef int (*marvin_guide_event_fn)(void* user, const char* event_json);
 
 #define MARVIN_ROBOT_API_MAJOR 1
-#define MARVIN_ROBOT_API_MINOR 6
+#define MARVIN_ROBOT_API_MINOR 7
 
 typedef struct marvin_robot_api {
   uint32_t struct_size; /* sizeof(marvin_robot_api) as the host compiled it */
@@ -364,6 +364,14 @@ typedef struct marvin_robot_api {
   /* Every contact ("who are my contacts?"), sorted by name, as a JSON array of the objects
    * contacts_find writes; [] when there are none. Permission "contacts". */
   marvin_status (*contacts_list)(marvin_host* host, marvin_text_out* contacts_json);
+
+  /* --- since API 1.7: forgetting a contact -------------------------------------------
+   * Check struct_size (or minor) before calling this on an older host. */
+  /* Removes the contact with this id, as contacts_find and contacts_list write it ("delete
+   * Peter from my contacts"): its numbers, addresses and nicknames go with it; a person
+   * known by face stays, no longer linked to it. MARVIN_ERR_NOT_FOUND when there is no
+   * such contact. Permission "contacts". */
+  marvin_status (*contacts_remove)(marvin_host* host, int64_t contact_id);
 } marvin_robot_api;
 
 #ifdef __cplusplus

@@ -256,6 +256,10 @@ class Robot {
     auto call = fn(&marvin_robot_api::contacts_list, "contacts_list");
     return nlohmann::json::parse(text([&](marvin_text_out* out) { return call(host_, out); }));
   }
+  // Since API 1.7: forgets the contact with this id (Error(MARVIN_ERR_NOT_FOUND) if none).
+  void contacts_remove(std::int64_t id) {
+    check(fn(&marvin_robot_api::contacts_remove, "contacts_remove")(host_, id));
+  }
   nlohmann::json contacts_add(const nlohmann::json& contact) {
     std::string in = contact.dump();
     auto call = fn(&marvin_robot_api::contacts_add, "contacts_add");
