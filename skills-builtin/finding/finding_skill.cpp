@@ -91,6 +91,7 @@ class FindingSkill : public marvin::Skill {
   using Skill::Skill;
 
   void handle(const marvin::Request& r) override {
+    yes_no_ = true;
     try {
       if (r.intent == "where_is") where_is(wanted(r.slots.value("what", std::string())), false);
       else if (r.intent == "find") where_is(wanted(r.slots.value("what", std::string())), true);
@@ -101,6 +102,9 @@ class FindingSkill : public marvin::Skill {
         if (room.empty() && said.size() >= 5 && said.compare(said.size() - 5, 5, " here") == 0) {
           room = "here";
         }
+        // "who is in the kitchen?" is answered with names, without the "Yes:" or "No,"
+        // that "is anyone in the kitchen?" gets.
+        yes_no_ = said.rfind("who", 0) != 0;
         anyone_in(room);
       }
       else if (r.intent == "tell") tell(r.slots.value("name", std::string()),
@@ -117,6 +121,8 @@ class FindingSkill : public marvin::Skill {
   }
 
  private:
+  bool yes_no_ = true;  // this request asks yes or no ("is anyone in ...?"), not "who ...?"
+
   Wanted wanted(std::string what) {
     what = trim_end(lower(what));
     // "I can't find my glasses, can you help me find them" fills "i can't find {what}" with
@@ -418,8 +424,8 @@ class FindingSkill : public marvin::Skill {
       const std::optional<std::string> here = robot().where_am_i();
       if (!here) return anyone_home();
       const std::vector<std::string> who = people_seen(robot().look_around());
-      robot().say(who.empty() ? "No, I don't see anyone here."
-                              : "Yes: " + join_and(who) + are(who) + " here with us.");
+      robot().say(who.empty() ? no() + "I don't see anyone here."
+                              : yes(join_and(who) + are(who) + " here with us."));
       return;
     }
     const std::string name = strip_prefix(said, "the ");
@@ -438,11 +444,17 @@ class FindingSkill : public marvin::Skill {
     }
     const std::vector<std::string> who = people_seen(robot().look_around());
     if (who.empty()) {
-      robot().say("No, I don't see anyone in the " + room + ".");
+      robot().say(no() + "I don't see anyone in the " + room + ".");
     } else {
-      robot().say("Yes: " + join_and(who) + are(who) + " in the " + room + ".");
+      robot().say(yes(join_and(who) + are(who) + " in the " + room + "."));
     }
   }
+
+  // The answer to a yes/no question starts with its "Yes: " or "No, "; to "who is ...?" not.
+  std::string yes(const std::string& answer) const {
+    return yes_no_ ? "Yes: " + answer : capitalise_first(answer);
+  }
+  std::string no() const { return yes_no_ ? "No, " : ""; }
 
   // " is" / " are" after people_seen's list: "Anna is", "two people I don't know are".
   static std::string are(const std::vector<std::string>& who) {
@@ -473,9 +485,9 @@ class FindingSkill : public marvin::Skill {
     }
     std::string sentence;
     if (!found.empty()) {
-      sentence = "Yes: " + join_and(found) + ".";
+      sentence = yes(join_and(found) + ".");
     } else if (!looked.empty()) {
-      sentence = "No, I didn't see anyone. I looked in " + join_and(looked) + ".";
+      sentence = no() + "I didn't see anyone. I looked in " + join_and(looked) + ".";
     } else {
       sentence = "I couldn't look: I couldn't get into any room.";
     }

@@ -65,6 +65,7 @@ TEST_CASE("is anyone in the bedroom: a stranger; an unknown room is named") {
   h.robot().set_room_view("bedroom", kStranger);
   CHECK(h.say("is anyone in the bedroom") == Lines{"Yes: someone I don't know is in the bedroom."});
   CHECK(h.say("is anyone in the kitchen") == Lines{"No, I don't see anyone in the kitchen."});
+  CHECK(h.say("who is in the kitchen") == Lines{"I don't see anyone in the kitchen."});
   CHECK(h.say("is anyone in the garage") == Lines{"I don't know a room called the garage."});
 }
 
@@ -81,6 +82,10 @@ TEST_CASE("is anyone home: every room in turn; is anyone here: this room, withou
                           "bedroom."};
   CHECK(h.say("is anyone home") == everyone);
   CHECK(h.say("is there someone in the house") == everyone);
+  // "who ...?" is answered with the people, without "Yes:" (the rooms in the order searched).
+  const Lines who = h.say("who is home");
+  REQUIRE(who.size() == 2);
+  CHECK(who[1] == "Someone I don't know is in the bedroom and Anna is in the kitchen.");
   h.robot().block_place("bedroom", "the door is closed");
   CHECK(h.say("is anybody there") ==
         Lines{"I'll have a look around the house.",
@@ -88,7 +93,8 @@ TEST_CASE("is anyone home: every room in turn; is anyone here: this room, withou
   h.robot().set_room("kitchen");
   h.robot().clear();
   CHECK(h.say("is anyone here") == Lines{"Yes: Anna is here with us."});
-  CHECK(h.say("who is in the room") == Lines{"Yes: Anna is here with us."});
+  CHECK(h.say("who is in the room") == Lines{"Anna is here with us."});
+  CHECK(h.say("is anyone in here") == Lines{"Yes: Anna is here with us."});
   CHECK(h.robot().room() == "kitchen");
   CHECK(joined(h.robot().actions()).find("go_to") == std::string::npos);
   h.robot().set_room("hall");
