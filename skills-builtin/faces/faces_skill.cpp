@@ -1,5 +1,5 @@
 // Built-in skill "faces": who is in front of the robot, and learning or forgetting faces.
-//   "who is this?" / "who is in front of you?" / "who is at the door?"
+//   "who is this?" / "who is in front of you?"
 //        -> "That's Anna." / "I see Anna and someone I don't know." / "I don't see anyone."
 //   "who is Anna?" / "tell me who Tom is" (a contact's name or alias: the interpreter
 //        fills the slot only with one) -> "Anna is your daughter." from the contact book, not

@@ -5,6 +5,8 @@
 //        first, then the rooms in the robot's planned order; at each it looks around
 //   "is anyone in the kitchen?"                  -> goes there, looks around, says who
 //   "is anyone here?" / "is anyone home?"        -> this room / every room in turn
+//   "who is at the door?"                        -> goes to the front door, says whom it
+//                                                   sees (a closed door hides the caller)
 //   "tell Anna dinner is ready"                  -> finds her, goes to her, says it
 //   "I'm going out" / "guard the house"          -> guard mode on
 //   "I'm home" / "stop guarding"                 -> off, only when it sees a face it knows
@@ -102,9 +104,14 @@ class FindingSkill : public marvin::Skill {
         if (room.empty() && said.size() >= 5 && said.compare(said.size() - 5, 5, " here") == 0) {
           room = "here";
         }
-        // "who is in the kitchen?" is answered with names, without the "Yes:" or "No,"
-        // that "is anyone in the kitchen?" gets.
-        yes_no_ = said.rfind("who", 0) != 0;
+        // "who is at the door?" names no room either.
+        if (room.empty() && said.size() >= 5 && said.compare(said.size() - 5, 5, " door") == 0) {
+          room = "the door";
+        }
+        // "is anyone in the kitchen?" is answered "Yes: ..." or "No, ..."; "who is in the
+        // kitchen?" or "there's someone at the door" with what the robot saw alone.
+        yes_no_ = said.rfind("is ", 0) == 0 || said.rfind("are ", 0) == 0 ||
+                  said.rfind("any", 0) == 0;
         anyone_in(room);
       }
       else if (r.intent == "tell") tell(r.slots.value("name", std::string()),
@@ -420,6 +427,9 @@ class FindingSkill : public marvin::Skill {
   void anyone_in(const std::string& said_room) {
     const std::string said = strip_prefix(strip_prefix(said_room, "in "), "at ");
     if (said.empty() || means_whole_home(said)) return anyone_home();
+    for (const char* door : {"the door", "the front door", "my door", "my front door", "door"}) {
+      if (said == door) return at_the_door();
+    }
     if (said == "here" || said == "the room" || said == "this room") {  // "in here" too
       const std::optional<std::string> here = robot().where_am_i();
       if (!here) return anyone_home();
@@ -455,6 +465,43 @@ class FindingSkill : public marvin::Skill {
     return yes_no_ ? "Yes: " + answer : capitalise_first(answer);
   }
   std::string no() const { return yes_no_ ? "No, " : ""; }
+
+  // "who is at the door?" (the doorbell rang): the robot goes to the front door and says
+  // whom its camera sees there. A closed door hides whoever is outside, so seeing nobody
+  // is said as that, with the advice a carer would give, not as "nobody is there".
+  void at_the_door() {
+    std::string door;
+    for (const char* name : {"the front door", "the door", "the entrance"}) {
+      const std::optional<json> place = robot().place_find(name);
+      if (place && place->value("kind", "") != "person") {
+        door = place->value("name", std::string(name));
+        break;
+      }
+    }
+    if (door.empty()) {
+      robot().say("I don't know where your front door is: it isn't on my map.");
+      return;
+    }
+    if (door.rfind("the ", 0) != 0) door = "the " + door;
+    try {
+      robot().go_to(door);
+    } catch (const marvin::Error& e) {
+      if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
+      robot().say("I can't get to " + door + ": " + e.what() + ".");
+      return;
+    }
+    json seen = json::array();
+    for (const json& face : robot().vision_look().value("faces", json::array())) {
+      seen.push_back({{"kind", "person"}, {"name", face.value("name", "")}});
+    }
+    const std::vector<std::string> who = people_seen(json{{"seen", seen}});
+    if (who.empty()) {
+      robot().say(no() + "I'm at " + door + " and I don't see anyone. If someone is outside, " +
+                  "ask who it is before you open the door.");
+    } else {
+      robot().say(yes(join_and(who) + are(who) + " at " + door + "."));
+    }
+  }
 
   // " is" / " are" after people_seen's list: "Anna is", "two people I don't know are".
   static std::string are(const std::vector<std::string>& who) {

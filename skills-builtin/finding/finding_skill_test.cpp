@@ -59,6 +59,30 @@ TEST_CASE("a person on the map whose face Marvin does not know: no search, how t
   CHECK(actions.find("turn") == std::string::npos);
 }
 
+TEST_CASE("who is at the door: the robot goes to the front door and says whom it sees") {
+  marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
+  home(h);
+  CHECK(h.say("who is at the door") ==
+        Lines{"I don't know where your front door is: it isn't on my map."});
+  CHECK(joined(h.robot().actions()).find("go_to") == std::string::npos);
+  h.robot().add_place("the front door", "hall");
+  h.robot().set_room("kitchen");
+  h.robot().set_room_view("hall", R"({"faces":[],"objects":[]})");
+  // Nobody in view: a closed door hides whoever rang, so "nobody" is not said.
+  CHECK(h.say("who is at the door") ==
+        Lines{"I'm at the front door and I don't see anyone. If someone is outside, ask who it "
+              "is before you open the door."});
+  CHECK(joined(h.robot().actions()).find("go_to the front door") != std::string::npos);
+  h.robot().set_room_view("hall", kStranger);
+  CHECK(h.say("is anyone at the front door") ==
+        Lines{"Yes: someone I don't know is at the front door."});
+  h.robot().set_room_view("hall", kAnna);
+  CHECK(h.say("there's someone at the door") == Lines{"Anna is at the front door."});
+  h.robot().block_place("the front door", "a chair is in the way");
+  CHECK(h.say("who is at the door") ==
+        Lines{"I can't get to the front door: a chair is in the way."});
+}
+
 TEST_CASE("is anyone in the bedroom: a stranger; an unknown room is named") {
   marvin::testing::SkillHarness h(FINDING_SKILL_DIR);
   home(h);
