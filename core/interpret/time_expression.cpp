@@ -418,8 +418,10 @@ class TimeReader {
     if (read_holiday(month, day)) {
       phrase.month = month;
       phrase.day_of_month = day;
+      read_year(phrase);
       return true;
     }
+    if (read_easter_feast(phrase)) return true;
     if (at_ < w_.size()) {
       if (auto m = month_of(w_[at_])) {
         ++at_;
@@ -445,17 +447,23 @@ class TimeReader {
     }
     phrase.month = month;
     phrase.day_of_month = day;
+    read_year(phrase);
+    return true;
+  }
+
+  // After a date: "2027", or "this year" (the next one, as without it).
+  void read_year(TimePhrase& phrase) {
+    if (accept_seq({"this", "year"})) return;
     if (at_ < w_.size() && w_[at_].size() == 4) {
       if (auto y = parse_integer(w_[at_]); y && *y >= 1900 && *y <= 2200) {
         phrase.year = static_cast<int>(*y);
         ++at_;
       }
     }
-    return true;
   }
 
   // A holiday on the same date every year: "christmas [day]", "christmas eve", "boxing day",
-  // "new year's [day|eve]", "halloween", "valentine's day". (Easter moves; it is not here.)
+  // "new year's [day|eve]", "halloween", "valentine's day". (Easter moves: read_easter_feast.)
   bool read_holiday(int& month, int& day) {
     const std::size_t start = at_;
     auto found = [&](int m, int d) {
@@ -483,6 +491,36 @@ class TimeReader {
     }
     at_ = start;
     return false;
+  }
+
+  // "easter [sunday|day]", "good friday", "easter monday", "ascension day", "whit sunday",
+  // "pentecost", "whit monday", "ash wednesday": the feasts that move with Easter, as days
+  // from Easter Sunday (Western churches), then "[this year|2027]" as for a date.
+  bool read_easter_feast(TimePhrase& phrase) {
+    const std::size_t start = at_;
+    std::optional<int> days;
+    if (accept("easter")) {
+      days = accept("monday") ? 1 : accept("saturday") ? -1 : 0;
+      if (*days == 0) (void)(accept("sunday") || accept("day"));
+    } else if (accept_seq({"good", "friday"})) {
+      days = -2;
+    } else if (accept_seq({"ash", "wednesday"})) {
+      days = -46;
+    } else if (accept_seq({"ascension", "day"}) || accept("ascension")) {
+      days = 39;
+    } else if (accept("pentecost") || accept_seq({"whit", "sunday"}) || accept("whitsun") ||
+               accept("whitsunday")) {
+      days = 49;
+    } else if (accept_seq({"whit", "monday"})) {
+      days = 50;
+    }
+    if (!days) {
+      at_ = start;
+      return false;
+    }
+    phrase.days_from_easter = days;
+    read_year(phrase);
+    return true;
   }
 
   // "next week", "this weekend", "over the weekend", "for the week": a span of days.
@@ -614,7 +652,7 @@ namespace {
 // What day(s) a phrase names, as opposed to the time of day it names.
 bool names_day(const TimePhrase& p) {
   return p.kind != RecurrenceKind::kOnce || p.day_offset || p.weekday_mask != 0 ||
-         p.month != 0 || p.range != DayRange::kNone;
+         p.dated() || p.range != DayRange::kNone;
 }
 bool names_time_of_day(const TimePhrase& p) { return p.time || p.default_hour != 0; }
 void copy_day(const TimePhrase& from, TimePhrase& to) {
@@ -623,6 +661,7 @@ void copy_day(const TimePhrase& from, TimePhrase& to) {
   to.weekday_mask = from.weekday_mask;
   to.month = from.month;
   to.day_of_month = from.day_of_month;
+  to.days_from_easter = from.days_from_easter;
   to.year = from.year;
 }
 

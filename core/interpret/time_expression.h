@@ -58,6 +58,11 @@ struct TimePhrase {
   int month = 0;                            // calendar date (kOnce): 1..12, 0 = none
   int day_of_month = 0;                     // 1..31 with a month
   int year = 0;                             // 0 = not said
+  // A feast that moves with Easter (kOnce): days from Easter Sunday ("good friday" -2).
+  std::optional<int> days_from_easter;
+
+  // A calendar date was said: a month and day, or a feast counted from Easter.
+  bool dated() const { return month != 0 || days_from_easter.has_value(); }
 };
 
 // The whole span must be one expression; nullopt otherwise.

@@ -101,17 +101,31 @@ class Resolver {
   // the next when 0); today without a time said is now. nullopt for a day the month lacks.
   std::optional<UtcMs> calendar_date(int year, int month, int day, int hour, int minute,
                                      bool time_given) const {
+    return yearly(
+        year,
+        [&](int y) -> std::optional<date::local_days> {
+          const date::year_month_day ymd{date::year(y), date::month(static_cast<unsigned>(month)),
+                                         date::day(static_cast<unsigned>(day))};
+          if (!ymd.ok()) return std::nullopt;  // Feb 29 in a common year: try the next
+          return date::local_days{ymd};
+        },
+        hour, minute, time_given);
+  }
+
+  // The first of the days `day_in(year)` names that is still ahead, from this year on (only
+  // in `year` when one was said); today counts when no time was said.
+  template <typename DayIn>
+  std::optional<UtcMs> yearly(int year, DayIn day_in, int hour, int minute,
+                              bool time_given) const {
     const date::year_month_day today{today_};
     const int first_year = year != 0 ? year : static_cast<int>(today.year());
     const int last_year = year != 0 ? year : first_year + 4;  // Feb 29: a leap year
     for (int y = first_year; y <= last_year; ++y) {
-      const date::year_month_day ymd{date::year(y), date::month(static_cast<unsigned>(month)),
-                                     date::day(static_cast<unsigned>(day))};
-      if (!ymd.ok()) continue;  // Feb 29 in a common year: try the next
-      const date::local_days local_day{ymd};
-      UtcMs at = instant(local_day, hour, minute);
+      const std::optional<date::local_days> local_day = day_in(y);
+      if (!local_day) continue;
+      UtcMs at = instant(*local_day, hour, minute);
       if (at > now_) return at;
-      if (local_day == today_ && !time_given) return now_;
+      if (*local_day == today_ && !time_given) return now_;
     }
     return std::nullopt;
   }
@@ -125,6 +139,18 @@ class Resolver {
   UtcMs now_;
   date::local_days today_;
 };
+
+// Easter Sunday of the Gregorian calendar (the anonymous Gregorian algorithm, as in
+// Meeus, "Astronomical Algorithms", ch. 8).
+date::local_days easter_sunday(int year) {
+  const int a = year % 19, b = year / 100, c = year % 100, d = b / 4, e = b % 4;
+  const int f = (b + 8) / 25, g = (b - f + 1) / 3, h = (19 * a + b - d - g + 15) % 30;
+  const int i = c / 4, k = c % 4, l = (32 + 2 * e + 2 * i - h - k) % 7;
+  const int m = (a + 11 * h + 22 * l) / 451;
+  const int month = (h + l - 7 * m + 114) / 31, day = (h + l - 7 * m + 114) % 31 + 1;
+  return date::local_days{date::year(year) / date::month(static_cast<unsigned>(month)) /
+                          date::day(static_cast<unsigned>(day))};
+}
 
 nlohmann::json weekday_list(unsigned mask) {
   nlohmann::json list = nlohmann::json::array();
@@ -162,7 +188,7 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
         } else if (phrase.morning) {
           // the morning reading, as parsed
         } else if (phrase.kind == RecurrenceKind::kOnce && !phrase.day_offset &&
-                   phrase.weekday_mask == 0 && phrase.month == 0 && hour > 6) {
+                   phrase.weekday_mask == 0 && !phrase.dated() && hour > 6) {
           both_readings = true;
         } else if (hour <= 6) {
           // 1..6 is the afternoon, with a day or without: "remind me to call the bank at 3"
@@ -180,6 +206,13 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
           range_days = count;
           at = resolver.first_after_now(first, first, 0, hour, minute);
           if (!at) at = resolver.now();
+        } else if (phrase.days_from_easter) {
+          at = resolver.yearly(
+              phrase.year,
+              [&](int y) -> std::optional<date::local_days> {
+                return easter_sunday(y) + date::days(*phrase.days_from_easter);
+              },
+              hour, minute, phrase.time.has_value());
         } else if (phrase.month != 0) {
           at = resolver.calendar_date(phrase.year, phrase.month, phrase.day_of_month, hour,
                                       minute, phrase.time.has_value());
@@ -222,7 +255,7 @@ std::optional<nlohmann::json> resolve_time_phrase(const TimePhrase& phrase,
       // "to 3 pm" names no day, "to Friday at 3" does: moving an appointment keeps its own
       // day in the first case (the schedule skill).
       {"day_given", phrase.kind != RecurrenceKind::kOnce || phrase.day_offset.has_value() ||
-                        phrase.weekday_mask != 0 || phrase.month != 0 ||
+                        phrase.weekday_mask != 0 || phrase.dated() ||
                         phrase.range != DayRange::kNone || phrase.in_seconds.has_value()},
       {"recurrence", recurrence}};
   if (range_days > 0) value["days"] = range_days;

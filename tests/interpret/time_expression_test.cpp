@@ -137,6 +137,15 @@ TEST_CASE("time expressions: table against Friday 2024-03-29 10:00 Europe/Berlin
       {"new year", "2025-01-01T09:00", "once"},
       {"on halloween", "2024-10-31T09:00", "once"},
       {"valentine's day", "2025-02-14T09:00", "once"},
+      // Feasts that move with Easter (Sunday 2024-03-31; 2025-04-20): the next one.
+      {"easter", "2024-03-31T09:00", "once"},
+      {"on easter sunday at 3 pm", "2024-03-31T15:00", "once"},
+      {"easter monday", "2024-04-01T09:00", "once"},
+      {"good friday", "2024-03-29T10:00", "once"},  // today (without a time: now)
+      {"whit monday", "2024-05-20T09:00", "once"},
+      {"ascension day", "2024-05-09T09:00", "once"},
+      {"easter 2027", "2027-03-28T09:00", "once"},
+      {"christmas this year", "2024-12-25T09:00", "once"},
   };
   for (const Case& c : cases) {
     CAPTURE(c.text);
@@ -348,9 +357,9 @@ TEST_CASE("time expressions: not times") {
     CAPTURE(text);
     CHECK(when(text, context).is_null());
   }
-  // Holidays: not Easter (it moves), not half a name, not two days.
-  for (const char* text : {"easter", "valentine's", "boxing", "new", "christmas tomorrow",
-                           "christmas on monday", "halloween eve"}) {
+  // Holidays: not half a name, not two days.
+  for (const char* text : {"good", "whit", "valentine's", "boxing", "new", "christmas tomorrow",
+                           "christmas on monday", "halloween eve", "easter tomorrow"}) {
     CAPTURE(text);
     CHECK(when(text, context).is_null());
   }

@@ -109,6 +109,11 @@ TEST_CASE("how many days until christmas; how long until an hour; today and tomo
   CHECK(harness.say("how long is it till new year's day") ==
         Lines{"It's 41 days until Friday, 1 January 2027."});
   CHECK(harness.say("when is christmas eve") == Lines{"It's 33 days until Thursday, 24 December."});
+  // Easter moves: its date is reckoned for the year (Sunday 28 March 2027).
+  CHECK(harness.say("when is easter") == Lines{"It's 127 days until Sunday, 28 March 2027."});
+  CHECK(harness.say("what day is good friday") == Lines{"That is Friday, 26 March 2027."});
+  CHECK(harness.say("what day of the week is christmas this year") ==
+        Lines{"That is Friday, 25 December 2026."});
   CHECK(harness.say("how many days until sunday") == Lines{"That's tomorrow, Sunday, 22 November."});
   CHECK(harness.say("how long until 5 pm") == Lines{"It's 1 hour and 55 minutes until 5 PM."});
   CHECK(harness.say("how many hours until midnight") ==
