@@ -8,6 +8,8 @@
 //   "set the heating to 21 degrees"        "what's the temperature in here?"
 // "Everything off" leaves thermostats alone: a person who is cold at night must not find
 // the heating switched off by a sentence about the lights; "turn off the heating" does it.
+// "Dim the lights" or "brighter" with several lights in reach changes the ones that are on,
+// and only lights: a dark room stays dark, the tv stays off.
 // The device comes from the room named (or the room the robot is in) and the name; when
 // that leaves several, the skill asks ("The hall light or the bedroom light?"). Every
 // "it's on" is said after the device itself reported it (smarthome_set returns then);
@@ -84,7 +86,14 @@ class HomeSkill : public marvin::Skill {
     }
     if (intent == "brighter" || intent == "dimmer") {
       if (heating) return change_warmth(*home, text("device"), intent == "brighter");
-      return step(*home, text("device"), intent == "brighter" ? kStep : -kStep);
+      std::string device = text("device");
+      // "It's too dark in here": the lights of the robot's room, not the last ones switched.
+      const std::vector<std::string> w = marvin_home_skill::words(request.utterance);
+      if (device.empty() && std::find(w.begin(), w.end(), "here") != w.end() &&
+          !home->value("room", "").empty()) {
+        device = "lights in the " + home->value("room", "");
+      }
+      return step(*home, device, intent == "brighter" ? kStep : -kStep);
     }
     if (intent == "temperature") return temperature(*home, text("room"));
     if (intent == "query") {
@@ -98,7 +107,7 @@ class HomeSkill : public marvin::Skill {
     if (intent == "what_is_on") {
       const std::vector<std::string> w = marvin_home_skill::words(request.utterance);
       const bool all_off = std::find(w.begin(), w.end(), "off") != w.end();
-      return what_is_on(*home, text("room"), all_off);
+      return what_is_on(*home, text("room"), all_off, yes_no_question(request.utterance));
     }
   }
 
@@ -313,6 +322,7 @@ class HomeSkill : public marvin::Skill {
       }
     }
     if (devices.empty()) devices = pick(home, phrase);
+    devices = lit_ones(std::move(devices));
     remember(devices);
     std::vector<json> done;
     for (const json& d : devices) {
@@ -327,7 +337,7 @@ class HomeSkill : public marvin::Skill {
   }
 
   void step(const json& home, const std::string& phrase, int delta) {
-    std::vector<json> devices = pick(home, phrase);
+    std::vector<json> devices = lit_ones(lights_of(pick(home, phrase)));
     remember(devices);
     std::vector<json> done;
     for (const json& d : devices) {
@@ -354,6 +364,28 @@ class HomeSkill : public marvin::Skill {
       if (auto s = command(d, json{{"on", true}, {"brightness", level}})) done.push_back(*s);
     }
     report(done);
+  }
+
+  // "Dim the lights to 30 percent", "brighter please" with several lights in reach: the
+  // ones that are on are meant (a light that is off in another room stays off); all of
+  // them when none is on.
+  static std::vector<json> lit_ones(std::vector<json> devices) {
+    if (devices.size() < 2) return devices;
+    std::vector<json> on;
+    for (const json& d : devices) {
+      if (d.value("on", json()) == json(true)) on.push_back(d);
+    }
+    return on.empty() ? devices : on;
+  }
+
+  // More or less light is the lights' business: "it's too dark" after "switch everything
+  // off in the living room" must not switch the tv back on. Others only when no light fits.
+  static std::vector<json> lights_of(std::vector<json> devices) {
+    std::vector<json> lights;
+    for (const json& d : devices) {
+      if (d.value("type", "light") == "light") lights.push_back(d);
+    }
+    return lights.empty() ? devices : lights;
   }
 
   // "Is the fan on?" is answered "Yes, ..."; "what is the thermostat set to?" is not.
@@ -414,7 +446,8 @@ class HomeSkill : public marvin::Skill {
   // "Is anything still on?" / "is everything off?": the lights and switches that are on,
   // in the room named or in the whole home. The heating is not counted: it is meant to
   // stay on.
-  void what_is_on(const json& home, const std::string& room_said, bool asked_all_off) {
+  void what_is_on(const json& home, const std::string& room_said, bool asked_all_off,
+                  bool yes_no) {
     const std::string room = named_room(home, room_said);
     std::vector<json> on;
     bool known_room = room.empty();
@@ -426,8 +459,12 @@ class HomeSkill : public marvin::Skill {
     if (!known_room) return robot().say("I don't know any devices in the " + room + ".");
     remember(on);  // "turn them off"
     if (on.empty()) {
-      return robot().say(std::string(asked_all_off ? "Yes, " : "No, ") + "everything" +
-                         (room.empty() ? "" : " in the " + room) + " is off.");
+      // "Is anything on?" No; "is everything off?" Yes; "what lights are on?" neither.
+      const std::string everything = std::string(asked_all_off ? "Yes, everything"
+                                                 : yes_no       ? "No, everything"
+                                                                : "Everything") +
+                                     (room.empty() ? "" : " in the " + room) + " is off.";
+      return robot().say(everything);
     }
     robot().say(asked_all_off ? "No, " + states(on) + "." : capital(states(on)) + ".");
   }

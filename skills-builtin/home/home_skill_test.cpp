@@ -79,6 +79,30 @@ TEST_CASE("dim the living room lights to 30 percent, then make it brighter") {
   CHECK(h.robot().asked().empty());
 }
 
+TEST_CASE("more or less light: the lights that are on, and lights only") {
+  marvin::testing::SkillHarness h(HOME_SKILL_DIR);
+  world(h);
+  h.robot().set_room("hall");
+  h.say("turn on the living room lamp");
+  // The lamp is the only light on: "the lights" to 30 percent leave the dark rooms dark.
+  h.robot().clear();
+  CHECK(h.say("dim the lights to 30 percent") ==
+        Lines{"The living room lamp is on, at 30 percent."});
+  CHECK(sent(h) == Lines{R"(smarthome_set lamp {"brightness":30,"on":true})"});
+  CHECK(h.say("brighter please") == Lines{"The living room lamp is on, at 55 percent."});
+  CHECK(state(h, "kitchen")["on"] == false);
+  // After everything in the living room went off, "it's too dark in here" is the light of
+  // the robot's room, and never the tv that went off with the lamp.
+  h.say("switch everything off in the living room");
+  h.robot().clear();
+  CHECK(h.say("it's too dark in here") == Lines{"The hall light is on."});
+  CHECK(sent(h) == Lines{R"(smarthome_set hall {"on":true})"});
+  h.robot().clear();
+  h.say("turn off the lamp and the tv");
+  CHECK(h.say("more light please") == Lines{"The living room lamp is on, at 25 percent."});
+  CHECK(state(h, "tv")["on"] == false);
+}
+
 TEST_CASE("brighter and dimmer on a light that cannot dim, or that is off") {
   marvin::testing::SkillHarness h(HOME_SKILL_DIR);
   world(h);  // the robot is in the hall; the hall light only switches
@@ -257,6 +281,10 @@ TEST_CASE("I'm cold: the thermostat of the robot's room a degree up, the room's 
   CHECK(h.say("turn it down") ==
         Lines{"The living room thermostat is on, set to 20 degrees. It's 19.5 degrees in the "
               "living room."});
+  // How much is no part of the name: "the heating a bit" is the heating.
+  CHECK(h.say("turn the heating up a bit") ==
+        Lines{"The living room thermostat is on, set to 21 degrees. It's 19.5 degrees in the "
+              "living room."});
   // A heating that is off: warmer switches it on; cooler leaves it off and sends nothing.
   h.robot().clear();
   CHECK(h.say("it's too hot in the bedroom") == Lines{"The bedroom thermostat is already off."});
@@ -344,6 +372,7 @@ TEST_CASE("is anything still on: what is on, in the home or a room; the heating 
   CHECK(h.intent_of("is the kitchen light on") == "home/query");
   CHECK(h.say("is anything still on") == Lines{"No, everything is off."});
   CHECK(h.say("is everything off?") == Lines{"Yes, everything is off."});
+  CHECK(h.say("what lights are on") == Lines{"Everything is off."});  // no yes/no asked
   h.say("turn on the kitchen light");
   h.say("turn on the tv");
   h.robot().clear();

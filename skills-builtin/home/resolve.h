@@ -43,8 +43,11 @@ inline std::string join(const std::vector<std::string>& ws) {
 
 // "the big lamp" -> "big lamp": articles and possessives say nothing about the device.
 inline std::string tidy(const std::string& text) {
-  static const std::set<std::string> skip = {"the",  "a",    "my",  "our",   "your",
-                                             "this", "that", "one", "please"};
+  // "turn the heating down a bit": how much is no word of a device's name ("a little" is
+  // left to resolve's describing words: a device may be called "little lamp").
+  static const std::set<std::string> skip = {"the",  "a",    "my",  "our",    "your",
+                                             "this", "that", "one", "please", "bit",
+                                             "slightly", "notch"};
   std::vector<std::string> out;
   for (const std::string& w : words(text)) {
     if (!skip.count(w)) out.push_back(w);
