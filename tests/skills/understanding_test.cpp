@@ -314,3 +314,22 @@ TEST_CASE("going somewhere: the user's wish to go is guiding, Marvin's own trip 
   CHECK(reading(in, "go to the kitchen") == "navigation/go_to");
   CHECK(reading(in, "is there anything in my way") == "guidance/way_clear");
 }
+
+TEST_CASE("everyday phrasings with every built-in skill loaded") {
+  Interpreter in;
+  const fs::path repo = MARVIN_REPO_DIR;
+  for (const char* skill : {"hello", "faces", "finding", "guidance", "home", "navigation",
+                            "phone", "schedule", "time"}) {
+    add_skill(in, repo / "skills-builtin" / skill);
+  }
+  // The doorbell: the front door, not whoever stands in front of the robot.
+  CHECK(reading(in, "who is at the door") == "finding/anyone_in");
+  CHECK(reading(in, "is someone at the front door") == "finding/anyone_in");
+  CHECK(reading(in, "who is this") == "faces/who");
+  CHECK(reading(in, "delete Peter from my contacts") == "schedule/remove_contact");
+  CHECK(reading(in, "remove my son from the phone book") == "schedule/remove_contact");
+  CHECK(reading(in, "add a contact Mary Jones 555 1234") == "schedule/add_contact");
+  CHECK(reading(in, "what day is good friday") == "time/day");
+  CHECK(reading(in, "is there anything in my way") == "guidance/way_clear");
+  CHECK(reading(in, "any obstacles ahead") == "guidance/way_clear");
+}
