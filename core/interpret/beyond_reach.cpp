@@ -37,6 +37,9 @@ const Topic kTopics[] = {
      "Sorry, I can't buy or order things, and I don't keep a shopping list."},
     {{"google", "internet", "online", "wikipedia", "website", "web", "recipe", "recipes"},
      "Sorry, I can't look things up: I work without the internet."},
+    {{"photo", "photos", "picture", "pictures", "selfie", "video", "film"},
+     "Sorry, I can't take photos for you. I can tell you what I see: ask \"what do you "
+     "see\"."},
     {{"follow", "following"},
      "Sorry, I can't follow you yet. Say \"come here\" and I'll come to you."},
 };

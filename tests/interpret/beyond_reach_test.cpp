@@ -18,6 +18,9 @@ TEST_CASE("beyond reach: each topic gives its reason, whatever the phrasing") {
   CHECK(beyond_reach("tell me a joke") == "Sorry, I don't know any jokes.");
   CHECK(beyond_reach("follow me") ==
         "Sorry, I can't follow you yet. Say \"come here\" and I'll come to you.");
+  CHECK(beyond_reach("take a picture of me") ==
+        "Sorry, I can't take photos for you. I can tell you what I see: ask \"what do you "
+        "see\".");
   CHECK(beyond_reach("when does the next train leave") ==
         "Sorry, I can't look that up: I work without the internet.");
 }
