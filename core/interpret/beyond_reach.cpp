@@ -37,7 +37,9 @@ const Topic kTopics[] = {
      "Sorry, I can't buy or order things, and I don't keep a shopping list."},
     {{"google", "internet", "online", "wikipedia", "website", "web", "recipe", "recipes"},
      "Sorry, I can't look things up: I work without the internet."},
-    {{"photo", "photos", "picture", "pictures", "selfie", "video", "film"},
+    // Taking them: "paint me a picture" is no photo.
+    {{"photo", "photos", "photograph", "selfie", "take a picture", "take pictures",
+      "take a video", "film me", "record a video"},
      "Sorry, I can't take photos for you. I can tell you what I see: ask \"what do you "
      "see\"."},
     {{"follow", "following"},

@@ -68,6 +68,16 @@ std::optional<int> weekday_of(std::string_view word, bool* plural) {
   return std::nullopt;
 }
 
+// "48 hours", "90 minutes": a duration said on the clock, not in days or weeks.
+bool names_clock_units(std::span<const std::string> words) {
+  for (const std::string& w : words) {
+    for (const char* unit : {"hour", "minute", "min", "second", "sec"}) {
+      if (w.rfind(unit, 0) == 0) return true;
+    }
+  }
+  return false;
+}
+
 // Recursive-descent reader over the tokens; every read_* restores the position on failure.
 class TimeReader {
  public:
@@ -78,6 +88,13 @@ class TimeReader {
     if (accept("in")) {
       auto seconds = parse_duration(w_.subspan(at_));
       if (!seconds) return std::nullopt;
+      // "in two days", "in a week": a day, at the day's default hour like "on Tuesday" (a
+      // reminder said at 10:52 PM is not for 10:52 PM); "in 48 hours" stays to the minute.
+      constexpr std::int64_t kDay = 24 * 60 * 60;
+      if (*seconds >= kDay && *seconds % kDay == 0 && !names_clock_units(w_.subspan(at_))) {
+        phrase.day_offset = static_cast<int>(*seconds / kDay);
+        return phrase;
+      }
       phrase.in_seconds = *seconds;
       return phrase;
     }

@@ -36,6 +36,7 @@ TEST_CASE("beyond reach: the first topic named wins, and phrases match whole wor
   // "order" alone is not buying; "rainbow" and "snowdrop" are not the weather.
   CHECK_FALSE(beyond_reach("put them in order"));
   CHECK_FALSE(beyond_reach("paint a rainbow with snowdrops"));
+  CHECK_FALSE(beyond_reach("paint me a picture"));
 }
 
 TEST_CASE("beyond reach: requests with no such topic, and bad input, get nothing") {

@@ -79,6 +79,9 @@ TEST_CASE("time expressions: table against Friday 2024-03-29 10:00 Europe/Berlin
       {"at 11 at night", "2024-03-29T23:00", "once"},
       {"in 20 minutes", "2024-03-29T10:20", "once"},
       {"in an hour and a half", "2024-03-29T11:30", "once"},
+      {"in 2 days", "2024-03-31T09:00", "once"},  // days: the day, at its usual hour
+      {"in a week", "2024-04-05T09:00", "once"},
+      {"in 48 hours", "2024-03-31T11:00", "once"},  // on the clock (summer time began)
       {"tomorrow at nine", "2024-03-30T09:00", "once"},
       {"tomorrow at 3", "2024-03-30T15:00", "once"},  // 1..6 with a day: afternoon
       {"at 9 tomorrow", "2024-03-30T09:00", "once"},
