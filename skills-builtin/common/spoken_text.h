@@ -32,6 +32,25 @@ inline std::vector<std::string> words_in(const std::string& text) {
   return words;
 }
 
+// The answer to a yes/no question that lets a skill go ahead: "yes", "yeah, please",
+// "sure", "OK", "please do", "go ahead". Anything else is no, and so is a yes with a no in
+// it ("please don't", "yes, no, wait"): an unclear answer never removes, calls or enrols.
+inline bool said_yes(const std::string& answer) {
+  const std::vector<std::string> w = words_in(answer);
+  if (w.empty()) return false;
+  for (const std::string& x : w) {
+    if (x == "no" || x == "not" || x == "don't" || x == "dont" || x == "nope" || x == "never" ||
+        x == "wait") {
+      return false;
+    }
+  }
+  for (const char* yes : {"yes", "yeah", "yep", "yup", "sure", "ok", "okay", "please",
+                          "certainly", "absolutely", "alright"}) {
+    if (w[0] == yes) return true;
+  }
+  return w.size() > 1 && ((w[0] == "go" && w[1] == "ahead") || (w[0] == "do" && w[1] == "it"));
+}
+
 // {"the", "kitchen", "light"} -> "the kitchen light".
 inline std::string join_words(const std::vector<std::string>& words) {
   std::string out;

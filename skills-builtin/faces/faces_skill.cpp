@@ -250,10 +250,6 @@ class FacesSkill : public marvin::Skill {
     return found.size() == 1 ? found[0].value("name", "") : "";
   }
 
-  static bool is_yes(const std::string& answer) {
-    return answer.rfind("yes", 0) == 0 || answer.rfind("yeah", 0) == 0 || answer == "please do";
-  }
-
   bool camera_works() {
     try {
       robot().vision_look();
@@ -275,9 +271,25 @@ class FacesSkill : public marvin::Skill {
   }
 
   void enroll(const std::string& name) {
+    // Asked only with a face in view: "Shall I remember this face?" with nobody there asks
+    // the owner to consent to nothing. (Without a camera the enrolment says why.)
+    try {
+      const json faces = robot().vision_look().value("faces", json::array());
+      if (faces.empty()) {
+        robot().say("I don't see a face. Please look at me and try again.");
+        return;
+      }
+      if (faces.size() > 1) {
+        robot().say("I see more than one face. Please let " + name +
+                    " stand alone in front of me.");
+        return;
+      }
+    } catch (const marvin::Error& e) {
+      if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
+    }
     const std::string answer =
         lower(robot().ask("Shall I remember this face as " + name + "?"));
-    if (!is_yes(answer)) {
+    if (!marvin::builtin::said_yes(answer)) {
       robot().say("OK, I won't remember it.");
       return;
     }
@@ -338,7 +350,7 @@ class FacesSkill : public marvin::Skill {
       return robot().say("I don't know your face, so there is nothing to forget.");
     }
     const std::string answer = lower(robot().ask("Shall I forget your face, " + people[0] + "?"));
-    if (!is_yes(answer)) {
+    if (!marvin::builtin::said_yes(answer)) {
       return robot().say("OK, I'll keep it.");
     }
     forget(people[0]);

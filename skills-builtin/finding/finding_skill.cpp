@@ -221,7 +221,7 @@ class FindingSkill : public marvin::Skill {
       robot().say("I saw " + w.said() + " " + where_words(*seen) + ", " +
                   ago(now - seen->value("seen_unix_ms", now)) + ".");
       const std::string answer = lower(robot().ask("Shall I look again?"));
-      if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please") {
+      if (!marvin::builtin::said_yes(answer)) {
         return;
       }
     }
@@ -412,7 +412,7 @@ class FindingSkill : public marvin::Skill {
     const std::string room = where.value("room", "");
     if (room.empty()) return;
     const std::string answer = lower(robot().ask("Shall I show you the way?"));
-    if (answer.rfind("yes", 0) != 0 && answer.rfind("yeah", 0) != 0 && answer != "please") return;
+    if (!marvin::builtin::said_yes(answer)) return;
     robot().go_to(room);
     robot().say("Here we are: the " + room + ".");
   }

@@ -34,13 +34,10 @@ constexpr std::chrono::seconds kPoll{1};
 // never says how the call went.
 constexpr int kMaxQuietPolls = 45;
 
+// "Call Anna?" - "call her": a yes too, unless a no is in it ("call? no, don't").
 bool is_yes(const std::string& answer) {
-  const std::string a = lower(answer);
-  for (const char* yes : {"yes", "yeah", "yep", "sure", "ok", "okay", "please", "do it", "go ahead",
-                          "call"}) {
-    if (a.rfind(yes, 0) == 0) return true;
-  }
-  return false;
+  return marvin::builtin::said_yes(answer) ||
+         (lower(answer).rfind("call", 0) == 0 && marvin::builtin::said_yes("yes " + answer));
 }
 
 // "call for help" heard as "call {who}" with who = "for help".

@@ -44,6 +44,7 @@ using marvin::builtin::capital;
 using marvin::builtin::capitalised;
 using marvin::builtin::join_and;
 using marvin::builtin::lower;
+using marvin::builtin::said_yes;
 using marvin::builtin::words_in;
 
 using nlohmann::json;
@@ -69,13 +70,6 @@ std::vector<std::string> words_of(const std::string& text) {
 std::string without_possessive(std::string word) {
   if (word.size() > 2 && word.compare(word.size() - 2, 2, "'s") == 0) word.resize(word.size() - 2);
   return word;
-}
-
-// The answer to a yes/no question that lets the skill go ahead: anything else keeps things
-// as they are, so an unclear answer never cancels or removes.
-bool agreed(const std::string& answer) {
-  const std::string a = lower(answer);
-  return a.rfind("yes", 0) == 0 || a.rfind("yeah", 0) == 0 || a == "please do";
 }
 
 // "take my pills" said by the owner is "take your pills" said back.
@@ -795,7 +789,7 @@ class ScheduleSkill : public marvin::Skill {
     if (everything && hits.size() > 1) {
       const std::string answer = lower(robot().ask("You have " + std::to_string(hits.size()) +
                                                    " reminders. Should I cancel all of them?"));
-      if (!agreed(answer)) {
+      if (!said_yes(answer)) {
         robot().say("OK, I kept them.");
         return;
       }
@@ -823,7 +817,7 @@ class ScheduleSkill : public marvin::Skill {
       const std::string answer = lower(robot().ask(
           "I found " + std::to_string(hits.size()) + " reminders: " + join_and(titles) +
           ". Should I cancel all of them?"));
-      if (!agreed(answer)) {
+      if (!said_yes(answer)) {
         robot().say("OK, I kept them.");
         return;
       }
@@ -1052,7 +1046,7 @@ class ScheduleSkill : public marvin::Skill {
       return;
     }
     const std::string full = found[0].value("name", "");
-    if (!agreed(robot().ask("Remove " + full + " from your contacts?"))) {
+    if (!said_yes(robot().ask("Remove " + full + " from your contacts?"))) {
       robot().say("OK, I kept " + full + ".");
       return;
     }

@@ -249,7 +249,9 @@ TEST_CASE("Lua marvin.after timers fire on the host loop, in order, on the host 
 TEST_CASE("--in-memory keeps no faces: learning one says so, not that the camera is broken") {
   // The simulated camera works ("what do you see" answers from the world); only the store
   // that keeps faces and things is missing.
-  Result r = run_marvin("run --sim --in-memory", "this is my daughter\nyes\nthese are my keys\n");
+  // The robot first comes to the user: a face is asked about only when one is in view.
+  Result r = run_marvin("run --sim --in-memory",
+                        "come here\nthis is my daughter\nyes\nthese are my keys\n");
   CHECK(r.exit_code == 0);
   CHECK(has_line(r, "Marvin: Shall I remember this face as Anna?"));  // the contact book's daughter
   CHECK(count_containing(r, "I can't learn anything new right now: I have nowhere to keep it.") == 2);

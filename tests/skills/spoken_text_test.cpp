@@ -25,3 +25,16 @@ TEST_CASE("spoken text: how long ago, in the unit a person would say") {
   CHECK(builtin::ago(60 * 60'000) == "an hour ago");
   CHECK(builtin::ago(5 * 60 * 60'000 + 59 * 60'000) == "5 hours ago");
 }
+
+TEST_CASE("spoken text: a yes that lets a skill go ahead, and everything that is not one") {
+  for (const char* yes : {"yes", "Yes please", "yeah", "sure", "OK", "okay, do it", "please do",
+                          "go ahead", "do it", "yep"}) {
+    CAPTURE(yes);
+    CHECK(builtin::said_yes(yes));
+  }
+  for (const char* no : {"no", "", "   ", "please don't", "yes, no, wait", "not now", "maybe",
+                         "I'm not sure", "nope", "yesterday", "okay no", "go", "do"}) {
+    CAPTURE(no);
+    CHECK_FALSE(builtin::said_yes(no));
+  }
+}
