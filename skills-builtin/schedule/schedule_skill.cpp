@@ -987,9 +987,10 @@ class ScheduleSkill : public marvin::Skill {
       in_number = in_number || w == "plus" || std::any_of(w.begin(), w.end(), digit);
       static const std::set<std::string> kBetween{"with", "the", "phone", "number", "is",
                                                   "and", "his", "her", "their"};
-      if (in_number) {
+      const bool between = kBetween.count(lower(w)) != 0;
+      if (in_number && !(heard.empty() && between)) {
         heard += (heard.empty() ? "" : " ") + w;
-      } else if (kBetween.count(lower(w)) == 0) {
+      } else if (!in_number && !between) {
         name += " " + w;
       }
     }

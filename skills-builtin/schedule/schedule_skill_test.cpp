@@ -383,6 +383,8 @@ TEST_CASE("add a contact in one sentence: name and number from it, only what is 
   CHECK(h.say("add Sue to my contacts with the number twelve") ==
         Lines{"Sorry, \"12\" doesn't sound like a phone number. I didn't add Sue."});
   CHECK(h.say("what is Sue's number") == Lines{"I don't have a contact called Sue."});
+  CHECK(h.say("add Sue to my contacts with the number banana") ==
+        Lines{"Sorry, \"banana\" doesn't sound like a phone number. I didn't add Sue."});
   // Nothing between name and number: the words before the first digit are the name.
   CHECK(h.say("add a contact Mary Jones 555 1234") ==
         Lines{"OK, I added Mary Jones with the number 5 5 5, 1 2 3 4."});
