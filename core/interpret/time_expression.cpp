@@ -71,7 +71,7 @@ std::optional<int> weekday_of(std::string_view word, bool* plural) {
 // "48 hours", "90 minutes": a duration said on the clock, not in days or weeks.
 bool names_clock_units(std::span<const std::string> words) {
   for (const std::string& w : words) {
-    for (const char* unit : {"hour", "minute", "min", "second", "sec"}) {
+    for (const char* unit : {"hour", "min", "sec"}) {  // "minutes", "mins", "seconds", ...
       if (w.rfind(unit, 0) == 0) return true;
     }
   }

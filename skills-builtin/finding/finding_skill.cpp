@@ -445,18 +445,25 @@ class FindingSkill : public marvin::Skill {
       return;
     }
     const std::string room = place->value("room", name);
-    try {
-      robot().go_to(room);
-    } catch (const marvin::Error& e) {
-      if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
-      robot().say("I can't get to the " + room + ": " + e.what() + ".");
-      return;
-    }
+    if (!reach(room, "the " + room)) return;
     const std::vector<std::string> who = people_seen(robot().look_around());
     if (who.empty()) {
       robot().say(no() + "I don't see anyone in the " + room + ".");
     } else {
       robot().say(yes(join_and(who) + are(who) + " in the " + room + "."));
+    }
+  }
+
+  // Drives to `place`; false after telling the user why not ("I can't get to the kitchen:
+  // the door is closed."), `spoken` being how the place is named.
+  bool reach(const std::string& place, const std::string& spoken) {
+    try {
+      robot().go_to(place);
+      return true;
+    } catch (const marvin::Error& e) {
+      if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
+      robot().say("I can't get to " + spoken + ": " + e.what() + ".");
+      return false;
     }
   }
 
@@ -483,13 +490,7 @@ class FindingSkill : public marvin::Skill {
       return;
     }
     if (door.rfind("the ", 0) != 0) door = "the " + door;
-    try {
-      robot().go_to(door);
-    } catch (const marvin::Error& e) {
-      if (e.status() != MARVIN_ERR_UNAVAILABLE) throw;
-      robot().say("I can't get to " + door + ": " + e.what() + ".");
-      return;
-    }
+    if (!reach(door, door)) return;
     json seen = json::array();
     for (const json& face : robot().vision_look().value("faces", json::array())) {
       seen.push_back({{"kind", "person"}, {"name", face.value("name", "")}});
